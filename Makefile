@@ -1,0 +1,29 @@
+# Two commands do all set-up (README): `make lab` opens the workbook, `make test` runs every test.
+# Both create .venv on first use; nothing else needs installing by hand.
+PYTHON ?= python3
+VENV   ?= .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+
+.PHONY: lab test env clean-env
+
+env: $(STAMP)
+
+# torch==2.13.0 is pinned in requirements.txt (an unpinned torch pulls CUDA wheels).
+$(STAMP): requirements.txt pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -r requirements.txt
+	$(BIN)/python -m pip install --quiet --no-deps -e .
+	@touch $(STAMP)
+
+lab: $(STAMP)
+	$(BIN)/jupyter lab notebooks/
+
+# Unit tests and strict nbval over every notebook, one pytest run (DESIGN.md §5).
+test: $(STAMP)
+	$(BIN)/python -m pytest tests notebooks --nbval --nbval-current-env \
+		--nbval-sanitize-with nbval_sanitize.cfg -q
+
+clean-env:
+	rm -rf $(VENV)
