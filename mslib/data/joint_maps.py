@@ -15,12 +15,15 @@ from ..motion.skeleton import JOINT_NAMES, Skeleton
 
 _SIDES = ("left", "right")
 
-XIA = {  # the CMU skeleton of the Xia set (as retargeted by Aberman et al.); also plain CMU BVH
-    "pelvis": "Hips", "left_hip": "LeftUpLeg", "right_hip": "RightUpLeg", "spine1": "LowerBack",
-    "left_knee": "LeftLeg", "right_knee": "RightLeg", "spine2": "Spine", "left_ankle": "LeftFoot",
-    "right_ankle": "RightFoot", "spine3": "Spine1", "left_foot": "LeftToeBase",
-    "right_foot": "RightToeBase", "neck": "Neck", "left_collar": "LeftShoulder",
-    "right_collar": "RightShoulder", "head": "Head", "left_shoulder": "LeftArm",
+# the CMU skeleton of the Xia set (as retargeted by Aberman et al.); also plain CMU BVH. LowerBack,
+# Neck and the Shoulders have zero offsets there (they sit on Hips and Spine1), so points between
+# joints stand in for spine2 and the collars, and Neck1 for the neck.
+XIA = {
+    "pelvis": "Hips", "left_hip": "LeftUpLeg", "right_hip": "RightUpLeg", "spine1": "Spine",
+    "left_knee": "LeftLeg", "right_knee": "RightLeg", "spine2": ("between", "Spine", "Spine1", 0.5),
+    "left_ankle": "LeftFoot", "right_ankle": "RightFoot", "spine3": "Spine1", "left_foot": "LeftToeBase",
+    "right_foot": "RightToeBase", "neck": "Neck1", "left_collar": ("between", "Spine1", "LeftArm", 0.5),
+    "right_collar": ("between", "Spine1", "RightArm", 0.5), "head": "Head", "left_shoulder": "LeftArm",
     "right_shoulder": "RightArm", "left_elbow": "LeftForeArm", "right_elbow": "RightForeArm",
     "left_wrist": "LeftHand", "right_wrist": "RightHand",
 }
@@ -120,6 +123,10 @@ def _path_between(skeleton: Skeleton, top: int, bottom: int) -> list:
 def auto_joint_map(skeleton: Skeleton, source: str = "skeleton") -> dict:
     """Guess the template map of any humanoid skeleton from names and structure (see module doc)."""
     names = skeleton.names
+    scale = max(float(skeleton.bone_lengths().max()), 1e-12)
+    # a joint with a zero offset sits on its parent: a poor stand-in for a template joint
+    zero = [float(v) < 1e-6 * scale for v in skeleton.bone_lengths()]
+    zero[0] = False
     side = [joint_side(n) for n in names]
     part = [joint_part(n) for n in names]
     found, missing = {}, []
@@ -143,7 +150,7 @@ def auto_joint_map(skeleton: Skeleton, source: str = "skeleton") -> dict:
             if fore is not None else None
         upper = upper if upper is not None else parent_of(fore)
         collar = parent_of(upper)
-        if collar is not None and side[collar] != s:
+        if collar is not None and (side[collar] != s or zero[collar]):
             collar = None  # arms hang straight from the spine: a point between is placed below
         ankle = pick(s, {"ankle"})
         toe = pick(s, {"toe"}, below=ankle) if ankle is not None else None
@@ -173,14 +180,14 @@ def auto_joint_map(skeleton: Skeleton, source: str = "skeleton") -> dict:
     if heads:
         head = min(heads, key=lambda j: len(_ancestors(skeleton, j)))
         found["head"] = names[head]
-        necks = [j for j in _ancestors(skeleton, head)[1:] if part[j] == "neck"]
-        found["neck"] = names[necks[-1] if necks else skeleton.parents[head]]
+        necks = [j for j in _ancestors(skeleton, head)[1:][::-1] if part[j] == "neck" and not zero[j]]
+        found["neck"] = names[necks[0] if necks else skeleton.parents[head]]
     else:
         missing += ["head", "neck"]
     if None not in arm_tops and "pelvis" in found:
         spine3 = _lca(skeleton, idx[arm_tops[0]], idx[arm_tops[1]])
         found["spine3"] = names[spine3]
-        between = _path_between(skeleton, idx[found["pelvis"]], spine3)
+        between = [j for j in _path_between(skeleton, idx[found["pelvis"]], spine3) if not zero[j]]
         if len(between) >= 2:
             found["spine1"], found["spine2"] = names[between[0]], names[between[len(between) // 2]]
         elif len(between) == 1:

@@ -1,0 +1,137 @@
+"""The training loop: learning, history, validation, time budget, resume, checkpoints, DDP on gloo."""
+import subprocess
+import sys
+import textwrap
+
+import pytest
+import torch
+from torch.utils.data import TensorDataset
+
+from mslib.checkpoints import FORMAT_VERSION, load_state, read_checkpoint, save_checkpoint
+from mslib.training import TrainConfig, fit, lr_factor
+
+
+class Linear(torch.nn.Module):
+    """y = Wx + b learned by MSE: a model with a known answer."""
+
+    def __init__(self, dim=4):
+        super().__init__()
+        self.config = {"dim": dim}
+        self.lin = torch.nn.Linear(dim, 1)
+
+    def training_step(self, batch):
+        x, y = batch
+        loss = torch.nn.functional.mse_loss(self.lin(x), y)
+        return {"loss": loss, "mse": loss.detach()}
+
+    def validation_step(self, batch):
+        x, y = batch
+        return {"mse": torch.nn.functional.mse_loss(self.lin(x), y)}
+
+
+def data(n=256, seed=0):
+    g = torch.Generator().manual_seed(seed)
+    x = torch.randn(n, 4, generator=g)
+    w = torch.tensor([[1.0], [-2.0], [0.5], [3.0]])
+    return TensorDataset(x, x @ w + 0.7)
+
+
+def test_learns_the_known_answer_and_logs(tmp_path):
+    torch.manual_seed(0)
+    m = Linear()
+    cfg = TrainConfig(steps=300, batch_size=32, lr=5e-2, val_every=100, seed=0)
+    h = fit(m, data(), cfg, val_set=data(64, 1), model_name="linear", out=tmp_path / "m.pt", progress=False)
+    assert h["step"][-1] == 300 and len(h["train"]["loss"]) == 300
+    assert h["val_step"] == [100, 200, 300]
+    assert h["val"]["mse"][-1] < 1e-3 < h["train"]["loss"][0]
+    torch.testing.assert_close(m.lin.weight.detach(), torch.tensor([[1.0, -2.0, 0.5, 3.0]]), atol=2e-2, rtol=0)
+    blob = read_checkpoint(tmp_path / "m.pt", "linear")
+    assert blob["format_version"] == FORMAT_VERSION and blob["config"] == {"dim": 4}
+    assert "optimizer" not in blob["extra"]  # final checkpoints stay small
+
+
+def test_same_seed_same_weights():
+    ws = []
+    for _ in range(2):
+        torch.manual_seed(123)
+        m = Linear()
+        fit(m, data(), TrainConfig(steps=20, lr=1e-2, seed=3), progress=False)
+        ws.append(m.lin.weight.detach().clone())
+    torch.testing.assert_close(ws[0], ws[1], atol=0, rtol=0)
+
+
+def test_resume_continues_where_it_stopped(tmp_path):
+    cfg = TrainConfig(steps=40, lr=1e-2, seed=1, checkpoint_every=20)
+    torch.manual_seed(0)
+    full = Linear()
+    fit(full, data(), cfg, model_name="linear", progress=False)
+    torch.manual_seed(0)
+    half = Linear()
+    h = fit(half, data(), TrainConfig(steps=40, lr=1e-2, seed=1, checkpoint_every=20, time_budget_s=0.0),
+            model_name="linear", out=tmp_path / "ck.pt", progress=False)
+    assert h["stopped"].startswith("time budget") and h["step"][-1] == 1
+    blob = read_checkpoint(tmp_path / "ck.pt", "linear")
+    assert blob["extra"]["step"] == 1 and "optimizer" in blob["extra"]
+    torch.manual_seed(0)
+    resumed = Linear()
+    h2 = fit(resumed, data(), cfg, model_name="linear", resume=tmp_path / "ck.pt", progress=False)
+    assert h2["step"][-1] == 40 and len(h2["train"]["loss"]) == 40
+    assert torch.isfinite(resumed.lin.weight).all()
+
+
+def test_lr_schedule():
+    cfg = TrainConfig(steps=100, warmup_steps=10)
+    assert lr_factor(0, cfg) == pytest.approx(0.1) and lr_factor(9, cfg) == pytest.approx(1.0)
+    assert lr_factor(100, cfg) == pytest.approx(0.1)
+    with pytest.raises(ValueError, match="schedule"):
+        lr_factor(50, TrainConfig(schedule="nope"))
+
+
+def test_checkpoint_errors_name_the_file(tmp_path):
+    m = Linear()
+    p = save_checkpoint(tmp_path / "a.pt", m, m.config, "linear")
+    with pytest.raises(ValueError, match="expected 'other'"):
+        read_checkpoint(p, "other")
+    with pytest.raises(ValueError, match="shape mismatch"):
+        load_state(p, Linear(dim=5), "linear")
+    blob = torch.load(p, weights_only=True)
+    blob["format_version"] = 999
+    torch.save(blob, tmp_path / "old.pt")
+    with pytest.raises(ValueError, match=r"old\.pt: format version 999.*retrain it with `python -m mslib train linear"):
+        read_checkpoint(tmp_path / "old.pt")
+    (tmp_path / "junk.pt").write_bytes(b"garbage")
+    with pytest.raises(ValueError, match="junk.pt: cannot be read safely"):
+        read_checkpoint(tmp_path / "junk.pt")
+    with pytest.raises(ValueError, match="no such file"):
+        read_checkpoint(tmp_path / "missing.pt")
+    with pytest.raises(TypeError):
+        save_checkpoint(tmp_path / "b.pt", m, {"bad": object()}, "linear")
+
+
+def test_ddp_two_processes_on_gloo_end_with_identical_weights(tmp_path):
+    script = tmp_path / "ddp_train.py"
+    script.write_text(textwrap.dedent(f"""
+        import sys, torch, torch.distributed as dist
+        sys.path.insert(0, {str(tmp_path)!r})
+        from tests.test_training import Linear, data
+        from mslib.training import TrainConfig, fit
+        torch.manual_seed(0)
+        m = Linear()
+        fit(m, data(), TrainConfig(steps=5, batch_size=16, lr=1e-2, seed=0), model_name="linear", progress=False)
+        torch.save(m.state_dict(), {str(tmp_path)!r} + f"/rank{{dist.get_rank()}}.pt")
+        dist.destroy_process_group()
+    """))
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    env = {"PYTHONPATH": str(root), "OMP_NUM_THREADS": "1", "PATH": "/usr/bin:/bin"}
+    r = subprocess.run([sys.executable, "-m", "torch.distributed.run", "--standalone",
+                        "--nproc_per_node", "2", str(script)], capture_output=True, text=True, env=env,
+                       cwd=root, timeout=240)
+    assert r.returncode == 0, r.stderr[-2000:]
+    a = torch.load(tmp_path / "rank0.pt", weights_only=True)
+    b = torch.load(tmp_path / "rank1.pt", weights_only=True)
+    for k in a:
+        torch.testing.assert_close(a[k], b[k], atol=0, rtol=0)
+    torch.manual_seed(0)
+    start = Linear()
+    assert not torch.equal(start.lin.weight, a["lin.weight"])  # they trained, and agree

@@ -1,0 +1,67 @@
+"""Build notebooks/NN_name.ipynb from notebooks/src/NN_name.py (percent format) and execute them.
+
+    .venv/bin/python tools/build_notebooks.py [NAME ...]   # default: every source
+
+Cells are separated by `# %%` (code) and `# %% [markdown]` (markdown, lines starting '# ').
+Each notebook runs top to bottom in a fresh kernel with notebooks/ as the working folder and is
+saved with its outputs, which nbval then compares (DESIGN.md §5).
+"""
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC, OUT = ROOT / "notebooks" / "src", ROOT / "notebooks"
+
+
+def parse_percent(text: str):
+    """Split a percent-format script into (kind, source) cells."""
+    cells, kind, lines = [], None, []
+
+    def flush():
+        if kind is not None:
+            body = "\n".join(lines).strip("\n")
+            if kind == "markdown":
+                body = "\n".join(l[2:] if l.startswith("# ") else l.lstrip("#") for l in body.splitlines())
+            if body.strip():
+                cells.append((kind, body))
+
+    for line in text.splitlines():
+        if line.startswith("# %%"):
+            flush()
+            kind, lines = ("markdown" if "[markdown]" in line else "code"), []
+        elif kind is not None:
+            lines.append(line)
+    flush()
+    return cells
+
+
+def build(src: Path, timeout: int = 600) -> float:
+    """Write and execute one notebook; returns its run time in seconds."""
+    cells = parse_percent(src.read_text(encoding="utf-8"))
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nb.cells = [nbformat.v4.new_markdown_cell(s) if k == "markdown" else nbformat.v4.new_code_cell(s)
+                for k, s in cells]
+    t0 = time.time()
+    NotebookClient(nb, timeout=timeout, kernel_name="python3",
+                   resources={"metadata": {"path": str(OUT)}}).execute()
+    for i, cell in enumerate(nb.cells):  # stable ids keep diffs small
+        cell["id"] = f"c{i:03d}"
+    out = OUT / f"{src.stem}.ipynb"
+    nbformat.write(nb, out)
+    return time.time() - t0
+
+
+if __name__ == "__main__":
+    names = sys.argv[1:]
+    sources = sorted(SRC.glob("*.py"))
+    if names:
+        sources = [s for s in sources if any(n in s.stem for n in names)]
+    for s in sources:
+        print(f"{s.stem}: executed in {build(s):.1f} s", flush=True)
