@@ -59,3 +59,19 @@ def test_missing_and_corrupt_inputs(tmp_path, capsys):
 def test_module_entry_point_help():
     out = subprocess.run([sys.executable, "-m", "mslib", "--help"], capture_output=True, text=True)
     assert out.returncode == 0 and "features" in out.stdout and "bvh" in out.stdout
+
+
+def test_bvh_info_json_and_text(shared_data, capsys):
+    f = shared_data / "xia_grid" / "neutral_01_000.bvh"
+    assert main(["bvh", "info", str(f), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert info["n_joints"] == 31 and abs(info["fps"] - 120) < 0.01 and info["joints"][0] == "Hips"
+    assert main(["bvh", "info", str(f)]) == 0
+    assert "n_frames" in capsys.readouterr().out
+
+
+def test_bvh_info_on_a_broken_file(tmp_path, capsys):
+    bad = tmp_path / "broken.bvh"
+    bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n")
+    assert main(["bvh", "info", str(bad)]) == 2
+    assert "broken.bvh" in capsys.readouterr().err
