@@ -1,0 +1,39 @@
+"""Notebook set-up: one call in each notebook's first cell makes its outputs stable for nbval."""
+from __future__ import annotations
+
+import random
+import sys
+import warnings
+
+import numpy as np
+
+FIGURE_DPI = 72
+
+
+def setup_notebook(seed: int = 0) -> None:
+    """Seed python/numpy/torch, print precision, PNG inline figures, no warnings; prints nothing."""
+    random.seed(seed)
+    np.random.seed(seed)
+    np.set_printoptions(precision=4, suppress=True)
+    try:
+        import torch
+    except ImportError:  # the library needs torch, but the set-up itself should not
+        torch = None
+    if torch is not None:
+        torch.manual_seed(seed)
+        torch.set_printoptions(precision=4, sci_mode=False)
+        # (no torch.use_deterministic_algorithms: it imports torch._dynamo, ~5 s, and CPU
+        # kernels are deterministic for a fixed thread count anyway)
+    warnings.filterwarnings("ignore")
+    import matplotlib
+    import matplotlib.pyplot  # noqa: F401 — resolves the backend first, so our rcParams stick
+    matplotlib.rcParams["figure.dpi"] = FIGURE_DPI
+    matplotlib.rcParams["svg.hashsalt"] = "mslib"  # stable ids should anyone save an SVG
+    ipython = sys.modules.get("IPython")  # a running kernel has imported it; never import it here
+    if ipython is not None and ipython.get_ipython() is not None:
+        try:
+            from matplotlib_inline.backend_inline import set_matplotlib_formats
+        except ImportError:
+            return None
+        set_matplotlib_formats("png")
+    return None
