@@ -20,8 +20,7 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
-from mslib.data.dataset_folder import FORMAT_VERSION, LABEL_COLUMNS, folder_is_empty
-from mslib.fileio import atomic_write_bytes
+from mslib.data.dataset_folder import FORMAT_VERSION, folder_is_empty, write_labels, write_meta
 
 WHERE = ("HumanML3D is not downloadable from here: build it with the scripts of "
          "github.com/EricGuo5513/HumanML3D (AMASS + HumanAct12), then point this command at its folder.")
@@ -83,20 +82,14 @@ def convert(src, out, force=False, copy=False, progress=True) -> dict:
         rows.append({"clip_id": cid, "split": splits.get(cid, "train"), "style": "", "substyle": "",
                      "content": "", "caption": first_caption(src / "texts" / f"{cid}.txt"),
                      "n_frames": str(v.shape[0]), "source_file": vec_file.name})
-    import csv
-    import io
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=LABEL_COLUMNS, lineterminator="\n")
-    w.writeheader()
-    w.writerows(rows)
-    atomic_write_bytes(out / "labels.csv", buf.getvalue().encode("utf-8"))
+    write_labels(out, rows)
     for a, b in (("Mean.npy", "mean.npy"), ("Std.npy", "std.npy")):
         if (src / a).is_file():
             link_or_copy(src / a, out / b, copy)
     meta = {"name": "humanml3d", "fps": 20, "skeleton": "humanml3d-22", "format_version": FORMAT_VERSION,
             "source": f"data_prep.humanml3d from {src.name}", "n_clips": len(rows),
             "joints_frames": "same as features (the release's positions are the decoded vector)"}
-    atomic_write_bytes(out / "meta.json", json.dumps(meta, indent=2, sort_keys=True).encode())
+    write_meta(out, meta)
     return {"clips": len(rows), "problems": problems, "seconds": round(time.time() - t0, 1),
             "splits": {s: sum(r["split"] == s for r in rows) for s in ("train", "val", "test")}}
 

@@ -70,20 +70,30 @@ class DatasetWriter:
     def close(self) -> dict:
         """Write labels.csv, mean/std of the train split and meta.json; return the meta."""
         rows = [self.rows[k] for k in sorted(self.rows)]
-        import io
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=LABEL_COLUMNS, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-        atomic_write_bytes(self.folder / "labels.csv", buf.getvalue().encode("utf-8"))
+        write_labels(self.folder, rows)
         train = [r["clip_id"] for r in rows if r["split"] == "train"] or [r["clip_id"] for r in rows]
         if train:
             norm = Normalizer.fit([np.load(self.folder / "features" / f"{c}.npy") for c in train])
             norm.save(self.folder)
         counts = {s: sum(r["split"] == s for r in rows) for s in SPLITS}
         self.meta.update(n_clips=len(rows), splits=counts)
-        atomic_write_bytes(self.folder / "meta.json", json.dumps(self.meta, indent=2, sort_keys=True).encode())
+        write_meta(self.folder, self.meta)
         return dict(self.meta)
+
+
+def write_labels(folder, rows) -> None:
+    """labels.csv from a list of dicts (missing columns left empty), atomically."""
+    import io
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=LABEL_COLUMNS, lineterminator="\n", extrasaction="ignore")
+    writer.writeheader()
+    writer.writerows([{c: r.get(c, "") for c in LABEL_COLUMNS} for r in rows])
+    atomic_write_bytes(Path(folder) / "labels.csv", buf.getvalue().encode("utf-8"))
+
+
+def write_meta(folder, meta: dict) -> None:
+    """meta.json, atomically."""
+    atomic_write_bytes(Path(folder) / "meta.json", json.dumps(meta, indent=2, sort_keys=True).encode())
 
 
 def read_labels(folder) -> list:
