@@ -61,6 +61,62 @@ def _data_build(args) -> int:
     return 0
 
 
+# ---------------------------------------------------------------- train
+def _corpus_dirs(args) -> tuple:
+    """The --content/--style folders, or the built-in corpora (built and cached on first use)."""
+    if args.content and args.style:
+        return args.content, args.style
+    from .data.corpora import load_builtin
+    paths = load_builtin(seed=0, progress=not getattr(args, "json", False))
+    return args.content or paths["content"], args.style or paths["style"]
+
+
+def _train_classifier(kind):
+    def run(args, content, style):
+        from .checkpoints import course_path
+        from .evaluation.evaluator import NAMES, test_accuracy, train_classifier
+        folder = content if kind == "content" else style
+        out = args.out or course_path(NAMES[kind])
+        model, history = train_classifier(kind, folder, args.preset, args.seed, out=out, device=args.device,
+                                          progress=not args.json)
+        return {"model": NAMES[kind], "out": str(out), "steps": history["step"][-1],
+                "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
+                "val_acc": round(100 * history["val"]["acc"][-1], 2),
+                "test_acc": round(test_accuracy(model, folder, "test"), 2)}
+    return run
+
+
+TRAINERS = {  # model name → run(args, content_dir, style_dir) -> summary dict; later issues add theirs
+    "evaluator_content": _train_classifier("content"),
+    "evaluator_style": _train_classifier("style"),
+}
+
+
+def _train(args) -> int:
+    if args.model not in TRAINERS:
+        raise ValueError(f"MODEL {args.model!r} is unknown; trainable models: {', '.join(sorted(TRAINERS))}")
+    content, style = _corpus_dirs(args)
+    summary = TRAINERS[args.model](args, content, style)
+    if args.json:
+        _print_json(summary)
+    else:
+        for key, value in summary.items():
+            print(f"{key:>12}: {value}")
+    return 0
+
+
+# ---------------------------------------------------------------- bench
+def _bench(args) -> int:
+    from .evaluation.bench import format_table, load_pairs, run_bench
+    pairs = load_pairs(args.seed, args.pairs, args.content, args.style)
+    row = run_bench(args.method, seed=args.seed, pairs=pairs, device=args.device, progress=not args.json)
+    if args.json:
+        _print_json(row)
+    else:
+        print(format_table([row]))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser for every command."""
     p = argparse.ArgumentParser(prog="python -m mslib", description="Motion Style Workbook command line")
@@ -90,6 +146,27 @@ def build_parser() -> argparse.ArgumentParser:
     db.add_argument("--force", action="store_true", help="rebuild even if a cached build exists")
     db.add_argument("--json", action="store_true")
     db.set_defaults(run=_data_build)
+
+    t = sub.add_parser("train", help="train a model with the one training loop (torchrun for DDP)")
+    t.add_argument("model", metavar="MODEL", help="e.g. evaluator_content, evaluator_style")
+    t.add_argument("--preset", choices=["course", "paper"], default="course")
+    t.add_argument("--content", default=None, metavar="DIR", help="content dataset folder (default built-in)")
+    t.add_argument("--style", default=None, metavar="DIR", help="style dataset folder (default built-in)")
+    t.add_argument("--seed", type=int, default=0)
+    t.add_argument("--out", default=None, metavar="FILE", help="checkpoint (default: the packaged course one)")
+    t.add_argument("--device", default="cpu", help="cpu, cuda, cuda:1, mps …")
+    t.add_argument("--json", action="store_true")
+    t.set_defaults(run=_train)
+
+    be = sub.add_parser("bench", help="run a method over held-out pairs and score it")
+    be.add_argument("--method", required=True)
+    be.add_argument("--seed", type=int, default=0, help="which draw of pairs")
+    be.add_argument("--pairs", type=int, default=200)
+    be.add_argument("--content", default=None, metavar="DIR")
+    be.add_argument("--style", default=None, metavar="DIR")
+    be.add_argument("--device", default="cpu")
+    be.add_argument("--json", action="store_true")
+    be.set_defaults(run=_bench)
     return p
 
 

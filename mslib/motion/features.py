@@ -110,6 +110,15 @@ def chain_rotations(positions, root_quat) -> np.ndarray:
     return quats
 
 
+def root_relative(positions, r_rot=None) -> np.ndarray:
+    """(T, 21·3) joints 1..21 relative to the root's ground point, in each frame's facing frame."""
+    p = np.asarray(positions, dtype=np.float64)
+    r_rot = root_rotations(p) if r_rot is None else r_rot
+    centred = p.copy()
+    centred[..., [0, 2]] -= p[:, :1, [0, 2]]
+    return rot.quat_rotate(np.repeat(r_rot[:, None], N_JOINTS, 1), centred)[:, 1:].reshape(len(p), -1)
+
+
 def encode(positions) -> np.ndarray:
     """Canonical joint positions (T, 22, 3) → the HumanML3D vector (T−1, 263), float32."""
     p = check_positions(positions)
@@ -123,10 +132,7 @@ def encode(positions) -> np.ndarray:
     root_vel = rot.quat_rotate(r_rot[1:], p[1:, 0] - p[:-1, 0])[:, [0, 2]]
     root_y = p[:-1, 0, 1:2]
 
-    # [4:67] joints relative to the root's ground point, turned into the facing frame
-    centred = p.copy()
-    centred[..., [0, 2]] -= p[:, :1, [0, 2]]
-    ric = rot.quat_rotate(np.repeat(r_rot[:, None], N_JOINTS, 1), centred)[:-1, 1:].reshape(T - 1, -1)
+    ric = root_relative(p, r_rot)[:-1]  # [4:67]
 
     rot6d = rot.quat_to_6d(quats[:-1, 1:]).reshape(T - 1, -1)
     local_vel = rot.quat_rotate(np.repeat(r_rot[:-1, None], N_JOINTS, 1), p[1:] - p[:-1]).reshape(T - 1, -1)

@@ -1,0 +1,179 @@
+"""The benchmark: every method on the same held-out (content, style) pairs, scored by the evaluator.
+
+A method is a factory registered under a name; the factory (given a device) returns a function
+    transfer(content: dict, style: dict) -> positions (T, 22, 3)
+where each dict holds "features" ((T−1)×263, unnormalised), "joints" (T×22×3) and its labels.
+Later issues add their models with `@register("adain")` in their own modules; `identity` and
+`copy_style` are the reference rows every method must beat on H.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..motion.features import decode
+from . import metrics as M
+
+METHODS: dict = {}
+DESCRIPTIONS: dict = {}
+# modules whose import registers more methods (added by later issues; missing ones are skipped)
+METHOD_MODULES = ("mslib.models.adain", "mslib.models.dsdn", "mslib.models.contrastive",
+                  "mslib.models.mcm_ldm", "mslib.models.clusterstyle")
+JSON_KEYS = ("method", "seed", "pairs", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr",
+             "diversity", "ms_per_clip")
+
+
+def register(name: str, description: str = ""):
+    """Decorator: register a method factory under `name`."""
+    def wrap(factory):
+        METHODS[name] = factory
+        DESCRIPTIONS[name] = description or (factory.__doc__ or "").strip().splitlines()[0]
+        return factory
+    return wrap
+
+
+def known_methods() -> list:
+    """Names of every registered method (importing the model modules that exist)."""
+    import importlib
+    for mod in METHOD_MODULES:
+        try:
+            importlib.import_module(mod)
+        except ModuleNotFoundError as e:
+            if e.name != mod:
+                raise
+    return sorted(METHODS)
+
+
+def get_method(name: str, device: str = "cpu"):
+    """The transfer function of a registered method; unknown names list the known ones."""
+    names = known_methods()
+    if name not in METHODS:
+        raise ValueError(f"--method {name!r} is unknown; known methods: {', '.join(names)}")
+    return METHODS[name](device)
+
+
+# ---------------------------------------------------------------- the reference rows
+@register("identity", "output = the content motion (perfect content, no style)")
+def _identity(device="cpu"):
+    return lambda content, style: np.asarray(content["joints"], np.float64)
+
+
+def loop_features(features, n_rows: int) -> np.ndarray:
+    """Repeat a feature sequence (rows) cyclically to n_rows; velocities keep the root moving on."""
+    f = np.asarray(features)
+    return f[np.arange(n_rows) % len(f)]
+
+
+@register("copy_style", "output = the style motion, looped to the content's length (all style, no content)")
+def _copy_style(device="cpu"):
+    def transfer(content, style):
+        return decode(loop_features(style["features"], len(content["features"])).astype(np.float64))
+    return transfer
+
+
+# ---------------------------------------------------------------- running
+def load_pairs(seed: int = 0, n_pairs: int = 200, content_dir=None, style_dir=None):
+    """The held-out pairs as (content item, style item) dicts with unnormalised numpy arrays."""
+    from ..data.corpora import load_builtin
+    from ..data.datasets import BenchmarkPairs
+    if content_dir is None or style_dir is None:
+        paths = load_builtin(progress=False)
+        content_dir = content_dir or paths["content"]
+        style_dir = style_dir or paths["style"]
+    ds = BenchmarkPairs(content_dir, style_dir, n_pairs=n_pairs, seed=seed, normalize=False, joints=True)
+    out = []
+    for k in range(len(ds)):
+        item = ds[k]
+        out.append(tuple({key: (v.numpy().astype(np.float64) if hasattr(v, "numpy") else v)
+                          for key, v in item[side].items()} for side in ("content", "style")))
+    return out
+
+
+class Evaluator:
+    """The two packaged classifiers, scoring lists of motions."""
+
+    def __init__(self, content_path=None, style_path=None):
+        from .evaluator import load_classifier
+        self.content = load_classifier("content", content_path)
+        self.style = load_classifier("style", style_path)
+        self._real = {}  # FMD features of real style clips, by clip id (shared across methods)
+
+    def score(self, motions):
+        """Content logits, style logits and FMD features (both penultimate layers, concatenated)."""
+        c_logits, c_feat = self.content.score(motions)
+        s_logits, s_feat = self.style.score(motions)
+        return c_logits, s_logits, np.concatenate([c_feat, s_feat], 1)
+
+    def real_features(self, clips) -> np.ndarray:
+        """FMD features of real clips (dicts with "clip_id" and "joints"), computed once per clip."""
+        todo = [c for c in clips if c["clip_id"] not in self._real]
+        if todo:
+            for c, f in zip(todo, self.score([c["joints"] for c in todo])[2]):
+                self._real[c["clip_id"]] = f
+        return np.stack([self._real[c["clip_id"]] for c in clips])
+
+
+def evaluate(outputs, pairs, evaluator: Evaluator) -> dict:
+    """All metrics of a list of output motions against their (content, style) pairs."""
+    contents = [c for c, _ in pairs]
+    styles = [s for _, s in pairs]
+    c_logits, s_logits, feats = evaluator.score(outputs)
+    real = evaluator.real_features(styles)
+    c_index = {c: i for i, c in enumerate(evaluator.content.classes)}
+    s_index = {s: i for i, s in enumerate(evaluator.style.classes)}
+    c_labels = np.array([c_index.get(c["content"], -1) for c in contents])
+    s_labels = np.array([s_index[s["style"]] for s in styles])
+    known = c_labels >= 0  # content labels the classifier knows (all, on the built-in data)
+    cra = M.accuracy(c_logits[known], c_labels[known]) if known.any() else float("nan")
+    sra = M.accuracy(s_logits, s_labels)
+    return {
+        "fmd": M.frechet_distance(feats, real) if len(outputs) > 1 else float("nan"),
+        "cra": cra, "sra": sra, "sra_top3": M.accuracy(s_logits, s_labels, top_k=3),
+        "h": M.harmonic_score(sra, cra),
+        "tsi": float(np.mean([M.trajectory_similarity_index(o, c["joints"]) for o, c in zip(outputs, contents)])),
+        "fsf": float(np.mean([M.foot_slide_fsf(o) for o in outputs])),
+        "fsr": float(np.mean([M.foot_skating_ratio_fsr(o) for o in outputs])),
+        "diversity": M.diversity(feats) if len(outputs) > 1 else 0.0,
+    }
+
+
+def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu", pairs=None,
+              evaluator: Evaluator | None = None, progress: bool = False) -> dict:
+    """Transfer every pair with `method`, time it, and score the outputs; returns the §8 JSON row."""
+    from tqdm.auto import tqdm
+    transfer = get_method(method, device)
+    pairs = load_pairs(seed, n_pairs) if pairs is None else pairs
+    evaluator = evaluator or Evaluator()
+    outputs, seconds = [], 0.0
+    for content, style in tqdm(pairs, desc=method, disable=not progress):
+        t0 = time.perf_counter()
+        out = transfer(content, style)
+        seconds += time.perf_counter() - t0
+        outputs.append(np.asarray(out, np.float64))
+    row = {"method": method, "seed": seed, "pairs": len(pairs), **evaluate(outputs, pairs, evaluator),
+           "ms_per_clip": 1000.0 * seconds / max(len(pairs), 1)}
+    return {k: row[k] for k in JSON_KEYS}
+
+
+def format_table(rows: list) -> str:
+    """A plain-text table of bench rows."""
+    cols = ("method", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr", "diversity", "ms_per_clip")
+    fmt = {"method": "{:<12}", "fmd": "{:>8.2f}", "cra": "{:>6.1f}", "sra": "{:>6.1f}", "sra_top3": "{:>8.1f}",
+           "h": "{:>6.3f}", "tsi": "{:>6.3f}", "fsf": "{:>6.2f}", "fsr": "{:>6.3f}", "diversity": "{:>9.2f}",
+           "ms_per_clip": "{:>11.1f}"}
+    head = " ".join(f"{c:>{len(fmt[c].format(0 if c != 'method' else ''))}}" for c in cols)
+    lines = [head]
+    for r in rows:
+        lines.append(" ".join(fmt[c].format(r[c]) for c in cols))
+    return "\n".join(lines)
+
+
+def save_rows(path, rows) -> Path:
+    """Write bench rows as JSON lines (for the README table)."""
+    import json
+    from ..fileio import atomic_write_bytes
+    text = "".join(json.dumps(r, sort_keys=True) + "\n" for r in rows)
+    atomic_write_bytes(Path(path), text.encode())
+    return Path(path)
