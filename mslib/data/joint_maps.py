@@ -11,9 +11,14 @@ from __future__ import annotations
 
 import re
 
-from ..motion.skeleton import JOINT_NAMES, Skeleton
+import numpy as np
+
+from ..motion.skeleton import JOINT_NAMES, REFERENCE_BONE_LENGTHS, Skeleton
 
 _SIDES = ("left", "right")
+# where spine1 and spine2 sit along the template's pelvis → spine3 path (fractions of its length)
+_SPINE = REFERENCE_BONE_LENGTHS[[2, 5, 8]]  # bones of joints 3, 6, 9
+SPINE_FRACTIONS = (_SPINE[0] / _SPINE.sum(), _SPINE[:2].sum() / _SPINE.sum())
 
 # the CMU skeleton of the Xia set (as retargeted by Aberman et al.); also plain CMU BVH. LowerBack,
 # Neck and the Shoulders have zero offsets there (they sit on Hips and Spine1), so points between
@@ -39,8 +44,8 @@ STYLE100 = {  # 100STYLE (Mason et al. 2022): 'Shoulder' is the upper arm, 'Hip'
 
 def builtin_map() -> dict:
     """The map of the built-in style corpus's mocap skeleton (mslib.data.mocap_skeleton)."""
-    from .mocap_skeleton import TEMPLATE_TO_MOCAP
-    return dict(TEMPLATE_TO_MOCAP)
+    from .mocap_skeleton import MOCAP_TO_TEMPLATE
+    return {JOINT_NAMES[t]: name for name, t in sorted(MOCAP_TO_TEMPLATE.items(), key=lambda kv: kv[1])}
 
 
 DIALECTS = {"xia": lambda: dict(XIA), "cmu": lambda: dict(XIA), "100style": lambda: dict(STYLE100),
@@ -188,8 +193,14 @@ def auto_joint_map(skeleton: Skeleton, source: str = "skeleton") -> dict:
         spine3 = _lca(skeleton, idx[arm_tops[0]], idx[arm_tops[1]])
         found["spine3"] = names[spine3]
         between = [j for j in _path_between(skeleton, idx[found["pelvis"]], spine3) if not zero[j]]
+        # choose the joints whose height along the spine best matches the template's spine1/spine2
+        lengths = skeleton.bone_lengths()
+        along = np.cumsum([lengths[j] for j in between + [spine3]])
+        frac = along[:-1] / max(along[-1], 1e-12)
         if len(between) >= 2:
-            found["spine1"], found["spine2"] = names[between[0]], names[between[len(between) // 2]]
+            k1 = int(np.argmin(np.abs(frac[:-1] - SPINE_FRACTIONS[0])))
+            k2 = k1 + 1 + int(np.argmin(np.abs(frac[k1 + 1:] - SPINE_FRACTIONS[1])))
+            found["spine1"], found["spine2"] = names[between[k1]], names[between[k2]]
         elif len(between) == 1:
             found["spine1"] = names[between[0]]
             found["spine2"] = ("between", names[between[0]], names[spine3], 0.5)
