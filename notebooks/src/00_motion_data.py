@@ -1,0 +1,177 @@
+# %% [markdown]
+# # 00 · Motion data: the skeleton, the 263-d vector and the built-in stylized mocap
+#
+# Every paper in this workbook speaks **HumanML3D**: 22 joints in SMPL order, Y up, metres, 20 frames
+# per second, and a 263-number vector per frame. This notebook builds that language from the ground
+# up and then meets the data every later notebook uses: a procedural generator of stylized motion
+# capture, with two corpora shaped like paper A's cross-dataset benchmark.
+#
+# **What you will learn**
+# - the template skeleton and forward kinematics (local rotations → joint positions);
+# - the 263-d vector block by block, and that `decode(encode(x))` gives the motion back;
+# - the eight Xia styles and their sub-styles, foot contacts, and the corpora's sizes and splits;
+# - what the benchmark's metrics say about two reference "methods" that do no style transfer at all.
+
+# %%
+import mslib
+mslib.setup_notebook(seed=0)
+
+import numpy as np
+import matplotlib.pyplot as plt
+from IPython.display import HTML
+
+from mslib import viz
+from mslib.motion import skeleton as sk
+from mslib.motion import rotations as rot
+from mslib.motion import features as F
+from mslib.data.synth import generate_clip
+from mslib.data.styles import STYLES, SUBSTYLES, CONTENTS
+
+# %% [markdown]
+# ## 1. The template skeleton
+# Each joint has a parent and a rest offset (its position relative to the parent when the body stands
+# in the rest pose). The offsets carry the HumanML3D reference body's bone lengths.
+
+# %%
+for j in (0, 1, 4, 7, 10, 9, 12, 15, 16, 18, 20):
+    parent = sk.PARENTS[j]
+    print(f"{j:>2} {sk.JOINT_NAMES[j]:<14} parent {parent:>2}  offset {np.round(sk.HUMANML3D.offsets[j], 4)}")
+
+# %% [markdown]
+# **Forward kinematics**: a joint's global rotation is its parent's times its own local rotation, and
+# its position is the parent's position plus the parent's global rotation applied to its offset:
+# $G_j = G_{p(j)} R_j$, $\;p_j = p_{p(j)} + G_{p(j)}\, o_j$. Bend the left hip forward and the left
+# knee back, and the whole leg follows.
+
+# %%
+R = np.broadcast_to(np.eye(3), (22, 3, 3)).copy()
+R[1] = rot.axis_angle_to_matrix(np.array([-0.9, 0, 0]))   # left hip: thigh forward (about −X)
+R[4] = rot.axis_angle_to_matrix(np.array([1.2, 0, 0]))    # left knee: shin back
+pose = sk.forward_kinematics(sk.HUMANML3D, R, np.array([0, 0.95, 0]))
+rest = sk.forward_kinematics(sk.HUMANML3D, np.broadcast_to(np.eye(3), (22, 3, 3)), np.array([0, 0.95, 0]))
+fig, axes = plt.subplots(1, 2, figsize=(6, 3))
+viz.plot_pose(axes[0], rest, view="side", title="rest pose")
+viz.plot_pose(axes[1], pose, view="side", title="left hip and knee bent")
+fig.tight_layout()
+print("bone lengths kept:", np.allclose(sk.positions_bone_lengths(pose, sk.PARENTS), sk.positions_bone_lengths(rest, sk.PARENTS)))
+_ = fig
+
+# %% [markdown]
+# ## 2. The 263-d vector, block by block
+# `encode` turns T frames of positions into T − 1 rows (velocities need the next frame):
+
+# %%
+clip = generate_clip("turn_walk", "neutral", seed=0, index=3)
+feats = F.encode(clip.positions)
+print("positions", clip.positions.shape, "→ features", feats.shape)
+for name, sl in F.BLOCKS.items():
+    print(f"  [{sl.start:>3}:{sl.stop:<3}] {name:<13} {sl.stop - sl.start:>3} numbers")
+
+# %% [markdown]
+# The root is described by *velocities* in its own facing frame — angular velocity about Y (half the
+# yaw step, a quirk of the original code), forward/sideways speed and height — so a motion can be
+# moved and turned freely. The last block marks the feet on the ground (a joint barely moving).
+
+# %%
+t = np.arange(len(feats)) / 20
+fig, axes = plt.subplots(3, 1, figsize=(6, 4.5), sharex=True)
+axes[0].plot(t, feats[:, 0]); axes[0].set_ylabel("yaw vel.\n(half-rad/frame)")
+axes[1].plot(t, feats[:, 2], label="forward"); axes[1].plot(t, feats[:, 1], label="sideways")
+axes[1].set_ylabel("root vel.\n(m/frame)"); axes[1].legend(fontsize=7)
+axes[2].imshow(feats[:, 259:].T, aspect="auto", cmap="Greys", extent=[0, t[-1], 3.5, -0.5], interpolation="nearest")
+axes[2].set_yticks(range(4), ["L ankle", "L toe", "R ankle", "R toe"]); axes[2].set_xlabel("time (s)")
+axes[0].set_title("a turning walk: root block and foot contacts")
+fig.tight_layout()
+_ = fig
+
+# %% [markdown]
+# **Round trip.** `decode` integrates the root's rotation and velocity and adds back the
+# root-relative joints. On built-in clips of every content it reproduces the positions (the last
+# frame has no row):
+
+# %%
+worst = 0.0
+for i, content in enumerate(CONTENTS):
+    c = generate_clip(content, "neutral", seed=0, index=i)
+    back = F.decode(F.encode(c.positions).astype(np.float64))
+    worst = max(worst, float(np.abs(back - c.positions[:-1]).max()))
+print(f"decode(encode(x)) over {len(CONTENTS)} contents: max error {worst * 1000:.2f} mm")
+
+# %% [markdown]
+# ## 3. Eight styles
+# The generator drives joint angles with a gait phase; each style is a distribution over posture
+# (spine and head pitch, shoulders), amplitude (arm swing, stride, knee lift), tempo (cadence) and
+# dynamics (bounce, sway, tremor). The root is then moved so that the stance foot stays planted.
+
+# %%
+walks = [generate_clip("walk", s, seed=0, index=10 + i, duration=3.0) for i, s in enumerate(STYLES)]
+fig = viz.plot_strip([w.positions for w in walks], n_frames=5, view="side", row_labels=list(STYLES))
+_ = fig
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+HTML(viz.animation_html([w.positions for w in walks[:4]], titles=list(STYLES[:4]), max_frames=40))
+
+# %% [markdown]
+# Each style has named **sub-styles** — the intra-style diversity paper D models with prototypes:
+
+# %%
+style = "old"
+subs = SUBSTYLES[style]
+clips = [generate_clip("walk", style, sub, seed=0, index=40 + i, duration=3.0) for i, sub in enumerate(subs)]
+print(style, "sub-styles:", subs)
+_ = viz.plot_strip([c.positions for c in clips], n_frames=5, view="side", row_labels=list(subs))
+
+# %% [markdown]
+# ## 4. Trajectories and foot contacts
+# Physical plausibility is built in: a foot in contact does not slide, the lowest foot point touches
+# the floor, bone lengths never change.
+
+# %%
+paths = [generate_clip(c, "neutral", seed=2, index=i, duration=4.0) for i, c in enumerate(("walk", "turn_walk", "side_step", "run"))]
+_ = viz.plot_trajectory([p.positions for p in paths], labels=["walk", "turn_walk", "side_step", "run"], contacts="auto")
+for p, name in zip(paths, ("walk", "turn_walk", "side_step", "run")):
+    feet = p.positions[:, [7, 8, 10, 11]]
+    planted = p.contacts[1:] & p.contacts[:-1]
+    slide = np.linalg.norm(np.diff(feet[..., [0, 2]], axis=0), axis=-1)[planted]
+    print(f"{name:<10} max slide of a planted foot joint: {1000 * slide.max():.2f} mm/frame, "
+          f"lowest foot point: {100 * p.positions[:, [7, 8, 10, 11], 1].min(1).max():.2f} cm max over frames")
+
+# %% [markdown]
+# ## 5. The two corpora (paper A's cross-dataset benchmark)
+# - **content corpus**: HumanML3D-like, 20 fps, every content, mild random style, captions;
+# - **style corpus**: eight styles × five Xia contents, recorded as BVH takes on another skeleton at
+#   30 fps, registered onto the template (notebook 01) and cut into 32-frame windows.
+#
+# Both are built once (about half a minute) and cached on disk.
+
+# %%
+from mslib.data.corpora import load_builtin
+from mslib.data.dataset_folder import read_labels, read_meta
+from collections import Counter
+
+paths = load_builtin(seed=0, progress=False)
+for name in ("content", "style"):
+    meta = read_meta(paths[name])
+    rows = read_labels(paths[name])
+    print(f"{name:>7} corpus: {meta['n_clips']} clips, splits {meta['splits']}")
+content_rows = read_labels(paths["content"])
+style_rows = read_labels(paths["style"])
+print("contents:", dict(sorted(Counter(r["content"] for r in content_rows).items())))
+print("styles (style corpus):", dict(sorted(Counter(r["style"] for r in style_rows).items())))
+print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["caption"])
+
+# %% [markdown]
+# ## Exercise
+# How many **frames** does the content corpus hold in total (sum of `n_frames` over all clips)?
+# Store it in `answer`.
+
+# %%
+# your code here: answer = ...
+answer = sum(int(r["n_frames"]) for r in content_rows)
+
+# %%
+# check cell
+expected = sum(int(r["n_frames"]) for r in read_labels(paths["content"]))
+assert answer == expected, "add up the n_frames column of labels.csv"
+print("correct:", answer, "frames =", round(answer / 20 / 60, 1), "minutes of motion")
