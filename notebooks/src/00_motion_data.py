@@ -105,7 +105,7 @@ print(f"decode(encode(x)) over {len(CONTENTS)} contents: max error {worst * 1000
 
 # %%
 walks = [generate_clip("walk", s, seed=0, index=10 + i, duration=3.0) for i, s in enumerate(STYLES)]
-fig = viz.plot_strip([w.positions for w in walks], n_frames=5, view="side", row_labels=list(STYLES))
+fig = viz.plot_strip([w.positions for w in walks], n_frames=5, view="side", titles=list(STYLES))
 _ = fig
 
 # %%
@@ -120,7 +120,7 @@ style = "old"
 subs = SUBSTYLES[style]
 clips = [generate_clip("walk", style, sub, seed=0, index=40 + i, duration=3.0) for i, sub in enumerate(subs)]
 print(style, "sub-styles:", subs)
-_ = viz.plot_strip([c.positions for c in clips], n_frames=5, view="side", row_labels=list(subs))
+_ = viz.plot_strip([c.positions for c in clips], n_frames=5, view="side", titles=[f"{style} · {s}" for s in subs])
 
 # %% [markdown]
 # ## 4. Trajectories and foot contacts
@@ -130,12 +130,12 @@ _ = viz.plot_strip([c.positions for c in clips], n_frames=5, view="side", row_la
 # %%
 paths = [generate_clip(c, "neutral", seed=2, index=i, duration=4.0) for i, c in enumerate(("walk", "turn_walk", "side_step", "run"))]
 _ = viz.plot_trajectory([p.positions for p in paths], labels=["walk", "turn_walk", "side_step", "run"], contacts="auto")
+from mslib.data.synth import plausibility
 for p, name in zip(paths, ("walk", "turn_walk", "side_step", "run")):
-    feet = p.positions[:, [7, 8, 10, 11]]
-    planted = p.contacts[1:] & p.contacts[:-1]
-    slide = np.linalg.norm(np.diff(feet[..., [0, 2]], axis=0), axis=-1)[planted]
-    print(f"{name:<10} max slide of a planted foot joint: {1000 * slide.max():.2f} mm/frame, "
-          f"lowest foot point: {100 * p.positions[:, [7, 8, 10, 11], 1].min(1).max():.2f} cm max over frames")
+    check = plausibility(p.positions, p.contacts, p.fps)
+    print(f"{name:<10} planted-foot slide ≤ {1000 * check['max_contact_slide']:.2f} mm/frame, "
+          f"lowest foot point {100 * check['min_foot_height']:.2f} cm, "
+          f"bone-length spread {check['bone_length_spread']:.1e} m, fastest joint {check['max_joint_speed']:.1f} m/s")
 
 # %% [markdown]
 # ## 5. The two corpora (paper A's cross-dataset benchmark)

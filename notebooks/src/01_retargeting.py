@@ -42,7 +42,8 @@ print(len(take_files), "BVH takes in the built-in style corpus")
 # %%
 walk_file = next(f for f in take_files if f.stem.endswith("old_walk"))
 info = bvh_info(walk_file)
-print({k: info[k] for k in ("n_joints", "n_frames", "fps", "rotation_orders")})
+print({"n_joints": info["n_joints"], "n_frames": info["n_frames"], "fps": round(info["fps"], 2),
+       "rotation_orders": info["rotation_orders"]})
 raw = read_bvh(walk_file)
 print("first joints:", raw.skeleton.names[:8])
 
@@ -107,7 +108,7 @@ print("max |bone − reference| after (m):", float(np.abs(bones_after - sk.REFER
 canonical = R.canonicalize(rescaled)
 fig = viz.plot_trajectory([rescaled - rescaled[:1, :1] * [1, 0, 1], canonical],
                           labels=["before (world heading)", "after (faces +Z)"], contacts="auto")
-print("initial facing after:", R.facing_direction(canonical[0]).round(3))
+print("initial facing after:", R.facing_direction(canonical[0]).round(3) + 0.0)
 _ = fig
 
 # %% [markdown]
