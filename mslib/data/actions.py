@@ -23,12 +23,14 @@ def _stand(T, fps, rng, sp, leg, stagger_front=None):
     t = np.arange(T) / fps
     ang = Angles(T)
     abd = stance_abduction(sp["width"], leg, 0.10)
-    shift = slow_noise(rng, t, 1.5, period=5.0) + 1.2 * (sp["hip_sway"] - 1.0) * rng.choice([-1, 1])
+    lean_side = float(rng.choice([-1, 1]))  # which leg carries the weight (contrapposto)
+    shift = slow_noise(rng, t, 1.5, period=5.0) + 1.2 * (sp["hip_sway"] - 1.0) * lean_side
     beat = 2 * np.pi * 1.6 * sp["cadence"] * t + rng.uniform(0, 2 * np.pi)  # a body rhythm
     bounce = 6.0 * sp["bounce"] * (0.5 - 0.5 * np.cos(2 * beat))
     for side in (LEFT, RIGHT):
         ang.hip(side, abduct=abd, out=sp["toe_out"], flex=0.5 * bounce)
-        ang.knee(side, flex=bounce)
+        free = (side == LEFT) == (lean_side > 0)  # the unweighted leg relaxes its knee
+        ang.knee(side, flex=bounce + (4.0 * max(sp["hip_sway"] - 1.0, 0.0) if free else 0.0))
         ang.add(1 if side == LEFT else 2, roll=shift)  # both feet sideways: the pelvis shifts
         if stagger_front is not None:
             ang.hip(side, flex=10.0 if side == stagger_front else -7.0,

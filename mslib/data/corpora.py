@@ -37,7 +37,7 @@ import numpy as np
 from ..fileio import atomic_write_bytes
 from .batch_features import encode_many
 from .styles import CONTENTS, STYLE_CONTENTS, STYLES, SUBSTYLES, caption
-from .synth import GENERATOR_VERSION, canonicalize, generate_clips, resample
+from .synth import GENERATOR_VERSION, canonicalize, generate_clips, resample_clips
 
 DEFAULT_SIZES = {"n_content": 2000, "takes_per_group": 10, "n_pairs": 500}
 CONTENT_FPS, TAKE_FPS = 20.0, 30.0
@@ -171,9 +171,9 @@ def _take_chunk(root: str, specs: list):
                                  seed=s["seed"], index=s["index"], fps=TAKE_FPS, duration=s["duration"],
                                  canonical=False) for s in specs])
     windows, rows, take_rows = [], [], []
-    for s, take in zip(specs, takes):
+    truths = resample_clips(takes, CONTENT_FPS)  # 20 fps, feet locked again
+    for s, take, gt in zip(specs, takes, truths):
         write_bvh(root / "style_bvh" / f"{s['take']}.bvh", to_bvh_motion(take.rotations, take.root, take.skeleton))
-        gt = resample(take, CONTENT_FPS)
         cap = take.meta["style_caption"]
         take_rows.append({"take": s["take"], "file": f"{s['take']}.bvh", "split": s["split"],
                           "style": s["style"], "substyle": s["substyle"], "content": s["content"],

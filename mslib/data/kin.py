@@ -65,7 +65,7 @@ def rot_y(yaw) -> np.ndarray:
 
 def between(a, b) -> np.ndarray:
     """Shortest-arc rotations (3, 3, N) taking unit vectors a (3, N) onto unit vectors b."""
-    v = np.cross(a, b, axis=0)
+    v = np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
     k = 1.0 / np.maximum(1.0 + (a * b).sum(0), 1e-9)
     s = 1.0 - (v * v).sum(0) * k
     z = np.zeros_like(k)

@@ -72,11 +72,8 @@ def canonicalize(clip: SynthClip) -> SynthClip:
     return clip.turned(-yaw, -np.array([start[0], 0.0, start[2]]))
 
 
-def resample(clip: SynthClip, fps: float, relock: bool = True) -> SynthClip:
-    """The clip at another frame rate: rotations slerped, root interpolated, forward kinematics;
-    then (relock) the feet locked again at the new rate, so contacts stay exact."""
-    if not fps > 0:
-        raise ValueError(f"fps: must be > 0, got {fps}")
+def _slerp_clip(clip: SynthClip, fps: float):
+    """Rotations slerped and root, contacts, pitch interpolated at another frame rate."""
     T = clip.n_frames
     n = int(np.floor((T - 1) * fps / clip.fps + 1e-9)) + 1
     x = np.arange(n) * clip.fps / fps
@@ -84,8 +81,7 @@ def resample(clip: SynthClip, fps: float, relock: bool = True) -> SynthClip:
     i1 = np.minimum(i0 + 1, T - 1)
     w = np.clip(x - i0, 0.0, 1.0)
     q = rot.matrix_to_quat(clip.rotations)
-    qs = rot.quat_slerp(q[i0], q[i1], np.broadcast_to(w[:, None], q[i0].shape[:-1]))
-    R = rot.quat_to_matrix(qs)
+    R = rot.quat_to_matrix(rot.quat_slerp(q[i0], q[i1], np.broadcast_to(w[:, None], q[i0].shape[:-1])))
     root = clip.root[i0] * (1 - w[:, None]) + clip.root[i1] * w[:, None]
     exact = (w < 1e-9)[:, None]
     contacts = clip.contacts[i0] & (clip.contacts[i1] | exact)
@@ -93,15 +89,44 @@ def resample(clip: SynthClip, fps: float, relock: bool = True) -> SynthClip:
     if clip.foot_contacts is not None:
         feet = clip.foot_contacts[i0] & (clip.foot_contacts[i1] | exact)
         pitch = clip.foot_pitch[i0] * (1 - w[:, None]) + clip.foot_pitch[i1] * w[:, None]
-    if relock and feet is not None:
-        offsets = np.repeat(clip.skeleton.offsets[:, :, None], n, axis=2)
-        Rs = kin.to_soa(R)
-        rel, G = kin.fk(PARENTS, offsets, Rs, np.zeros((n, 3)), return_globals=True)
-        Rs, root, contacts, pitch = lock_feet(offsets, Rs, root, rel, G, feet, pitch, fps, [(0, n)])
+    return R, root, contacts, feet, pitch
+
+
+def resample_clips(clips, fps: float, relock: bool = True) -> list:
+    """Clips at another frame rate: rotations slerped, root interpolated, forward kinematics; then
+    (relock) the feet locked again at the new rate, so contacts stay exact. Batched over clips."""
+    if not fps > 0:
+        raise ValueError(f"fps: must be > 0, got {fps}")
+    parts = [_slerp_clip(c, fps) for c in clips]
+    out = []
+    if relock and parts and all(p[3] is not None for p in parts):
+        lengths = [len(p[0]) for p in parts]
+        stops = np.cumsum(lengths)
+        segments = list(zip(stops - lengths, stops))
+        offsets = np.concatenate([np.repeat(c.skeleton.offsets[:, :, None], n, axis=2)
+                                  for c, n in zip(clips, lengths)], axis=2)
+        Rs = kin.to_soa(np.concatenate([p[0] for p in parts]))
+        root = np.concatenate([p[1] for p in parts])
+        feet = np.concatenate([p[3] for p in parts])
+        pitch = np.concatenate([p[4] for p in parts])
+        rel, G = kin.fk(PARENTS, offsets, Rs, np.zeros((len(root), 3)), return_globals=True)
+        Rs, root, c4, pitch = lock_feet(offsets, Rs, root, rel, G, feet, pitch, fps, segments)
+        pos = kin.fk(PARENTS, offsets, Rs, root)
         R = kin.from_soa(Rs)
-    pos = forward_kinematics(clip.skeleton, R, root)
-    meta = dict(clip.meta, fps=fps, n_frames=n)
-    return SynthClip(pos, R, root, clip.skeleton, contacts, fps, meta, feet, pitch)
+        for c, (a, b) in zip(clips, segments):
+            out.append(SynthClip(pos[a:b], R[a:b], root[a:b], c.skeleton, c4[a:b], fps,
+                                 dict(c.meta, fps=fps, n_frames=int(b - a)), feet[a:b], pitch[a:b]))
+        return out
+    for c, (R, root, contacts, feet, pitch) in zip(clips, parts):
+        pos = forward_kinematics(c.skeleton, R, root)
+        out.append(SynthClip(pos, R, root, c.skeleton, contacts, fps, dict(c.meta, fps=fps, n_frames=len(R)),
+                             feet, pitch))
+    return out
+
+
+def resample(clip: SynthClip, fps: float, relock: bool = True) -> SynthClip:
+    """One clip at another frame rate (see `resample_clips`)."""
+    return resample_clips([clip], fps, relock)[0]
 
 
 def travel_stats(positions, fps: float) -> dict:
