@@ -151,7 +151,7 @@ def _load_split(folder, split: str, label: str):
 
 
 def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, out=None,
-                     device: str = "cpu", progress: bool = True, classes=None) -> tuple:
+                     device: str = "cpu", progress: bool = True, classes=None, **overrides) -> tuple:
     """Train the content or style classifier on a dataset folder's train split; returns (model, history)."""
     from ..training import TrainConfig, fit
     if kind not in NAMES:
@@ -171,7 +171,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     torch.manual_seed(seed)
     model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes)), classes)
     model.mean, model.std = train_set.stats()
-    cfg = TrainConfig(seed=seed, **PRESETS[preset])
+    cfg = TrainConfig(seed=seed, **{**PRESETS[preset], **overrides})
     history = fit(model, train_set, cfg, val_set=val_set, model_name=NAMES[kind], out=out,
                   device=device, progress=progress)
     return model.eval(), history

@@ -1,0 +1,77 @@
+"""The evaluator's classifiers and the bench runner (independent of every method)."""
+import numpy as np
+import pytest
+import torch
+
+from mslib.data.dataset_folder import DatasetWriter
+from mslib.evaluation import bench
+from mslib.evaluation import evaluator as E
+from mslib.motion import features as F
+from mslib.motion import rotations as rot
+from tests.test_features import synthetic_motion
+
+
+def test_classifier_input_ignores_where_the_motion_is():
+    p = synthetic_motion(T=40)
+    moved = p + np.array([2.0, 0.0, -3.0])
+    np.testing.assert_allclose(E.classifier_input(moved), E.classifier_input(p), atol=1e-9)
+    turned = p @ rot.axis_angle_to_matrix(np.array([0, 1.2, 0])).T
+    # frames 1.. are in the body's facing frame (frame 0 is the identity by the vector's convention)
+    np.testing.assert_allclose(E.classifier_input(turned)[1:], E.classifier_input(p)[1:], atol=1e-6)
+    x = E.classifier_input(p)
+    assert x.shape == (40, 64)
+    np.testing.assert_allclose(x[:-1, 1:], F.encode(p)[:, F.BLOCKS["ric"]], atol=1e-6)
+
+
+def test_windows_cover_short_and_long_sequences():
+    assert E.windows_of(np.zeros((10, 64))).shape == (1, 32, 64)
+    w = E.windows_of(np.arange(70)[:, None] * np.ones((1, 64)))
+    assert w.shape[1:] == (32, 64) and w[0, 0, 0] == 0 and w[-1, -1, 0] == 69
+
+
+def toy_folder(path, n_per=12):
+    """Two 'styles' with an obvious difference (arms raised or not), three splits."""
+    writer = DatasetWriter(path, name="toy", source="test")
+    for k in range(3 * n_per):
+        for style, lift in (("calm", 0.0), ("wild", 1.0)):
+            p = synthetic_motion(T=40, seed=k)
+            p[:, 16:22, 1] += lift  # the whole arms raised by a metre
+            split = ("train", "val", "test")[k % 3]
+            writer.add(f"{style}{k:02d}", p, F.encode(p), split, style=style, content="walk")
+    writer.close()
+    return path
+
+
+def test_train_classifier_learns_and_checkpoints(tmp_path):
+    folder = toy_folder(tmp_path / "toy")
+    model, history = E.train_classifier("style", folder, seed=0, out=tmp_path / "s.pt", progress=False,
+                                        steps=200, batch_size=16, val_every=100)
+    assert model.classes == ["calm", "wild"] and history["step"][-1] == 200
+    assert E.test_accuracy(model, folder, "test") == 100.0
+    again = E.load_classifier("style", tmp_path / "s.pt")
+    logits, feats = again.score([synthetic_motion(T=50)])
+    assert logits.shape == (1, 2) and feats.shape == (1, 128)
+    ref_logits, _ = model.score([synthetic_motion(T=50)])
+    np.testing.assert_allclose(logits, ref_logits, atol=1e-5)
+    with pytest.raises(ValueError, match="expected 'evaluator_content'"):
+        E.load_classifier("content", tmp_path / "s.pt")
+    with pytest.raises(ValueError, match="kind"):
+        E.train_classifier("mood", folder)
+
+
+def test_unknown_method_lists_the_known_ones():
+    with pytest.raises(ValueError, match="known methods: .*copy_style.*identity"):
+        bench.get_method("nope")
+
+
+def test_reference_rows_do_what_they_say():
+    content = {"features": F.encode(synthetic_motion(T=61)), "joints": synthetic_motion(T=61)}
+    style_pos = synthetic_motion(T=33, seed=5)
+    style = {"features": F.encode(style_pos), "joints": style_pos}
+    out = bench.get_method("identity")(content, style)
+    np.testing.assert_array_equal(out, content["joints"])
+    copied = bench.get_method("copy_style")(content, style)
+    assert copied.shape == (60, 22, 3)
+    # its first 32 frames are the style motion itself (decoded from its own vector)
+    np.testing.assert_allclose(copied[:32], F.decode(style["features"]), atol=1e-5)
+    assert len(bench.loop_features(np.arange(5)[:, None], 12)) == 12
