@@ -88,7 +88,8 @@ def punch(T, fps, rng, sp, cp, leg) -> Plan:
     sgn = 1.0 if hand == RIGHT else -1.0
     for side in (LEFT, RIGHT):
         e = ext if side == hand else 0.0
-        ang.shoulder(side, flex=guard * 50 + e * 38 * amp, abduct=guard * 8 - e * 12,
+        ang.shoulder(side, flex=guard * 50 + e * 38 * amp + (1 - guard) * 0.7 * sp["lean"],
+                     abduct=guard * 8 - e * 12,
                      twist=-45 * guard * (1 - e) - 50 * e)
         ang.elbow(side, flex=guard * 115 * (1 - e) + e * 8)
     ang.spine(turn=sgn * (12 * guard + 20 * amp * sp["twist"] ** 0.5 * ext), lean=5 * ext)

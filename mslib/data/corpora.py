@@ -36,7 +36,7 @@ import numpy as np
 
 from ..fileio import atomic_write_bytes
 from .batch_features import encode_many
-from .styles import CONTENTS, STYLE_CONTENTS, STYLES, SUBSTYLES, caption
+from .styles import CONTENTS, STYLE_CONTENTS, STYLES, SUBSTYLES
 from .synth import GENERATOR_VERSION, canonicalize, generate_clips, resample_clips
 
 DEFAULT_SIZES = {"n_content": 2000, "takes_per_group": 10, "n_pairs": 500}
@@ -235,6 +235,13 @@ def _chunks(items, size):
     return [items[i:i + size] for i in range(0, len(items), size)]
 
 
+def _pool_context():
+    """fork on Linux (instant: the parent's imports are shared), spawn elsewhere (the safe default)."""
+    import multiprocessing as mp
+    import sys
+    return mp.get_context("fork" if sys.platform.startswith("linux") else "spawn")
+
+
 def _run(root: Path, seed: int, sizes: dict, workers: int, progress: bool) -> dict:
     """Build everything into `root` (an empty folder)."""
     for sub in ("content/joints", "content/features", "style/joints", "style/features", "style_bvh"):
@@ -264,9 +271,7 @@ def _run(root: Path, seed: int, sizes: dict, workers: int, progress: bool) -> di
             bar.update(n)
 
     if workers > 1:
-        import multiprocessing as mp
-        ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else None
-        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context()) as pool:
             futures = [(pool.submit(fn, str(root), chunk), len(chunk)) for fn, chunk in jobs]
             for fut, n in futures:
                 collect(fut.result(), n)

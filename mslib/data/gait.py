@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .body import LEFT, RIGHT, Angles, bump, shaped, slow_noise, tremor
+from .body import LEFT, RIGHT, Angles, bump, keyframes, shaped, slow_noise, tremor
 
 
 @dataclass
@@ -63,7 +63,7 @@ def apply_posture(ang: Angles, sp: dict, t, rng: np.random.Generator, phase=None
             ang.elbow(side, flex=105)
             continue
         ang.shoulder(side, abduct=sp["arm_out"] + tremor(rng, t, 0.4 * trem),
-                     flex=tremor(rng, t, 0.8 * trem))
+                     flex=0.7 * lean + tremor(rng, t, 0.8 * trem))  # arms hang toward the floor
         ang.elbow(side, flex=sp["elbow"] + tremor(rng, t, 1.2 * trem))
         ang.wrist(side, flex=10 + 0.3 * sp["elbow"])
 
@@ -105,7 +105,6 @@ def excursion(u, u_end: float):
 
 def _foot_roll(u, beta: float, content: str, step: float, sp: dict):
     """Foot pitch in stance (degrees): heel rocker after heel strike (−), flat, heel rise (+)."""
-    from .body import keyframes
     if content == "side_step":  # a sideways step does not roll over the toes
         keys = [(0.0, 0.0), (0.7 * beta, 0.0), (beta, 12.0)]
     elif content == "walk_backward":
@@ -144,7 +143,8 @@ def locomotion(T: int, fps: float, rng: np.random.Generator, sp: dict, cp: dict,
     for side in (LEFT, RIGHT):
         us = u[:, side]
         # the foot lands closer under the hip than where it leaves (more so in running)
-        s = (excursion(us, u_end) - (0.15 if run else 0.1)) * amp * (1 - (1.6 * limp if side == RIGHT else 0.0))
+        shorter = 1 - (1.6 * limp if side == RIGHT else 0.0)  # a limp shortens the right step
+        s = (excursion(us, u_end) - (0.15 if run else 0.1)) * amp * shorter
         sw = bump(us, swing_mid, 0.12 if not run else 0.13)
         if run:
             knee = 18 + 30 * bump(us, 0.45 * beta, 0.1) + 95 * lift * sw
@@ -176,9 +176,10 @@ def locomotion(T: int, fps: float, rng: np.random.Generator, sp: dict, cp: dict,
     ang.pelvis(obliquity=4.0 * sp["hip_sway"] * np.cos(cyc - 2 * np.pi * 0.3),
                turn=-4.0 * twist * np.cos(cyc) * (1.3 if run else 1.0),
                tilt=tilt + 1.5 * np.cos(2 * cyc))
+    into_turn = 2.0 * np.sign(cp["curvature"]) * (abs(cp["curvature"]) > 0.1)  # lean into a curve
     ang.spine(lean=(8.0 if run else 0.0) + (3.0 if content == "walk_backward" else 0.0),
               turn=(4.0 + 5.0) * twist * np.cos(cyc) * (1.3 if run else 1.0),
-              bend=sp["sway"] * np.cos(cyc - 2 * np.pi * 0.3) - 2.0 * np.sign(cp["curvature"]) * (abs(cp["curvature"]) > 0.1))
+              bend=sp["sway"] * np.cos(cyc - 2 * np.pi * 0.3) + into_turn)
     apply_posture(ang, sp, t, rng, phase=phase)
 
     # arms swing opposite to the legs
@@ -195,7 +196,8 @@ def locomotion(T: int, fps: float, rng: np.random.Generator, sp: dict, cp: dict,
             continue
         c = shaped(-np.cos(2 * np.pi * (u[:, side] - 0.04)), sp["jerk"])
         ang.shoulder(side, flex=arm_amp * c + (8.0 if run else 2.0))
-        ang.elbow(side, flex=(70.0 if run else 0.0) + (0.6 if run else 0.7) * arm_amp * (0.5 + 0.5 * c))
+        bend = (70.0 if run else 0.0) + (0.6 if run else 0.7) * arm_amp * (0.5 + 0.5 * c)
+        ang.elbow(side, flex=bend)
     if sp["cane"] > 0.5:
         ang.spine(bend=-4.0)
 

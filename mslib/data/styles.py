@@ -195,7 +195,7 @@ def sample_content(rng: np.random.Generator, content: str) -> dict:
     elif content == "walk_backward":
         c.update(speed=rng.uniform(0.4, 0.8), direction=180.0, curvature=rng.uniform(-0.03, 0.03))
     elif content == "jump":
-        c.update(height=rng.uniform(0.12, 0.4), distance=rng.choice([0.0, rng.uniform(0.3, 0.9)]))
+        c.update(height=rng.uniform(0.08, 0.3), distance=rng.choice([0.0, rng.uniform(0.3, 0.9)]))
     return c
 
 
