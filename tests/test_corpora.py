@@ -57,7 +57,9 @@ def test_dataset_folder_format(small, name):
         f = np.load(folder / "features" / f"{r['clip_id']}.npy")
         assert j.dtype == np.float32 and f.dtype == np.float32
         assert j.shape == (int(r["n_frames"]), 22, 3) and f.shape == (len(j) - 1, 263)
-        assert np.isfinite(f).all() and abs(j[:, [7, 10, 8, 11], 1].min()) < 0.011
+        # style clips come back through registration, which gives every bone the reference length
+        # (as HumanML3D does), so a foot may float a little: 2 cm, the bar of real-data registration
+        assert np.isfinite(f).all() and abs(j[:, [7, 10, 8, 11], 1].min()) < (0.011 if name == "content" else 0.02)
         assert r["style"] in STYLES and r["caption"].startswith(("a ", "an "))
     mean, std = np.load(folder / "mean.npy"), np.load(folder / "std.npy")
     assert mean.shape == std.shape == (263,) and (std > 0).all()

@@ -10,11 +10,13 @@
       style_bvh/          the raw takes: TAKE.bvh on the mocap skeleton (cm, 30 fps) + takes.csv
       pairs.csv           held-out benchmark pairs (content test clip, style test clip) of the seed
 
-Until a retargeting step replaces it, the style folder holds the generator's own template motion
-(the ground truth of what the BVH files contain), resampled to 20 fps and cut into windows.
+The style folder is loaded back from the BVH files through the real registration pipeline
+(retarget.py: resample 30 → 20 fps, rescale to the reference body, floor, origin, facing +Z), as a
+real mocap set would be (A §4.1); the generator's own template motion is only used to test it.
 
 Caching: `build_corpora()` with no `out_dir` builds into `MSLIB_CACHE` (default ~/.cache/mslib) as
-`builtin-v{GENERATOR_VERSION}-seed{S}`, and reuses a complete build. A build happens in a temporary
+`builtin-v{GENERATOR_VERSION}-{fingerprint}-seed{S}`, the fingerprint hashing the source of every
+module that shapes the data, so an edited generator never reuses a stale build. A build happens in a temporary
 folder renamed into place at the end, under a lock file, so concurrent builders neither collide
 nor leave half-written corpora. Every clip is a pure function of (seed, index), so the work is
 split over a process pool without changing a single number.
@@ -37,7 +39,8 @@ import numpy as np
 from ..fileio import atomic_write_bytes
 from .batch_features import encode_many
 from .styles import CONTENTS, STYLE_CONTENTS, STYLES, SUBSTYLES
-from .synth import GENERATOR_VERSION, canonicalize, generate_clips, resample_clips
+from .retarget import canonicalize, window_starts
+from .synth import GENERATOR_VERSION, generate_clips
 
 DEFAULT_SIZES = {"n_content": 2000, "takes_per_group": 10, "n_pairs": 500}
 CONTENT_FPS, TAKE_FPS = 20.0, 30.0
@@ -50,6 +53,20 @@ _TAKE_INDEX = 1_000_000  # takes draw from other generator streams than content 
 
 
 # ---------------------------------------------------------------- where
+def source_fingerprint() -> str:
+    """8 hex digits hashing the source of every module the built data depends on."""
+    import hashlib
+    here = Path(__file__).resolve().parent
+    files = sorted(here.glob("*.py")) + [here.parent / "motion" / n for n in
+                                         ("features.py", "skeleton.py", "rotations.py", "bvh.py")]
+    h = hashlib.sha256()
+    for f in files:
+        if f.name not in ("datasets.py", "dataset_folder.py", "__init__.py"):
+            h.update(f.name.encode() + b"\0" + f.read_bytes())
+    return h.hexdigest()[:8]
+
+
+
 def cache_root() -> Path:
     """The cache folder: $MSLIB_CACHE, else ~/.cache/mslib."""
     env = os.environ.get("MSLIB_CACHE")
@@ -70,7 +87,7 @@ def _sizes(n_content, takes_per_group, n_pairs) -> dict:
 def default_dir(seed: int = 0, **sizes) -> Path:
     """The cache folder of a build: builtin-v{version}-seed{seed}[-sizes if not the defaults]."""
     s = _sizes(**{**DEFAULT_SIZES, **sizes})
-    name = f"builtin-v{GENERATOR_VERSION}-seed{int(seed)}"
+    name = f"builtin-v{GENERATOR_VERSION}-{source_fingerprint()}-seed{int(seed)}"
     if s != DEFAULT_SIZES:
         name += f"-c{s['n_content']}-t{s['takes_per_group']}-p{s['n_pairs']}"
     return cache_root() / name
@@ -170,19 +187,21 @@ def _take_chunk(root: str, specs: list):
     takes = generate_clips([dict(content=s["content"], style=s["style"], substyle=s["substyle"],
                                  seed=s["seed"], index=s["index"], fps=TAKE_FPS, duration=s["duration"],
                                  canonical=False) for s in specs])
+    from ..motion.bvh import read_bvh
+    from .retarget import register_motion
     windows, rows, take_rows = [], [], []
-    truths = resample_clips(takes, CONTENT_FPS)  # 20 fps, feet locked again
-    for s, take, gt in zip(specs, takes, truths):
-        write_bvh(root / "style_bvh" / f"{s['take']}.bvh", to_bvh_motion(take.rotations, take.root, take.skeleton))
+    for s, take in zip(specs, takes):
+        bvh_path = root / "style_bvh" / f"{s['take']}.bvh"
+        write_bvh(bvh_path, to_bvh_motion(take.rotations, take.root, take.skeleton))
+        registered = register_motion(read_bvh(bvh_path), "builtin", source=bvh_path.name).positions
         cap = take.meta["style_caption"]
         take_rows.append({"take": s["take"], "file": f"{s['take']}.bvh", "split": s["split"],
                           "style": s["style"], "substyle": s["substyle"], "content": s["content"],
                           "caption": cap, "n_frames": take.n_frames, "fps": TAKE_FPS,
                           "seed": s["seed"], "index": s["index"]})
-        for k, start in enumerate(range(0, gt.n_frames - WINDOW + 1, STRIDE)):
-            win = canonicalize(_window(gt, start))
+        for k, start in enumerate(window_starts(len(registered), WINDOW, WINDOW - STRIDE)):
             clip_id = f"{s['take']}_w{k:02d}"
-            windows.append(win.positions)
+            windows.append(canonicalize(registered[start:start + WINDOW], floor=False))
             rows.append({"clip_id": clip_id, "split": s["split"], "style": s["style"],
                          "substyle": s["substyle"], "content": s["content"], "caption": cap,
                          "n_frames": WINDOW, "source_file": f"style_bvh/{s['take']}.bvh", "take": s["take"],
@@ -195,14 +214,6 @@ def _take_chunk(root: str, specs: list):
         if r["split"] == "train":
             stats.add(f)
     return "style", (rows, take_rows), stats, sum(t.n_frames for t in takes)
-
-
-def _window(clip, start: int):
-    """Frames [start, start + WINDOW) of a SynthClip."""
-    from dataclasses import replace
-    sl = slice(start, start + WINDOW)
-    return replace(clip, positions=clip.positions[sl], rotations=clip.rotations[sl], root=clip.root[sl],
-                   contacts=clip.contacts[sl])
 
 
 # ---------------------------------------------------------------- writing folders
@@ -305,7 +316,8 @@ def _complete(folder: Path, seed: int, sizes: dict):
         info = json.loads((folder / "build.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
-    ok = (info.get("generator_version") == GENERATOR_VERSION and info.get("seed") == seed
+    ok = (info.get("generator_version") == GENERATOR_VERSION and info.get("fingerprint") == source_fingerprint()
+          and info.get("seed") == seed
           and info.get("sizes") == sizes)
     return info if ok else None
 
@@ -353,7 +365,8 @@ def build_corpora(out_dir=None, seed: int = 0, force: bool = False, progress: bo
         try:
             tmp.mkdir(parents=True)
             counts = _run(tmp, seed, sizes, int(workers), progress)
-            info = {"generator_version": GENERATOR_VERSION, "seed": seed, "sizes": sizes,
+            info = {"generator_version": GENERATOR_VERSION, "fingerprint": source_fingerprint(),
+                    "seed": seed, "sizes": sizes,
                     "build_seconds": round(time.perf_counter() - start, 2), "workers": int(workers), **counts}
             atomic_write_bytes(tmp / "build.json", json.dumps(info, indent=2, sort_keys=True).encode())
             _move_into_place(tmp, out)
