@@ -133,9 +133,9 @@ _ = viz.plot_trajectory([p.positions for p in paths], labels=["walk", "turn_walk
 from mslib.data.synth import plausibility
 for p, name in zip(paths, ("walk", "turn_walk", "side_step", "run")):
     check = plausibility(p.positions, p.contacts, p.fps)
-    print(f"{name:<10} planted-foot slide ≤ {1000 * check['max_contact_slide']:.2f} mm/frame, "
-          f"lowest foot point {100 * check['min_foot_height']:.2f} cm, "
-          f"bone-length spread {check['bone_length_spread']:.1e} m, fastest joint {check['max_joint_speed']:.1f} m/s")
+    print(f"{name:<10} planted-foot slide {1000 * check['max_contact_slide']:.2f} mm/frame (≤ 2), "
+          f"lowest foot point {abs(100 * check['min_foot_height']):.2f} cm (≤ 1), "
+          f"bones constant: {check['bone_length_spread'] < 1e-5}, fastest joint {check['max_joint_speed']:.1f} m/s (≤ 12)")
 
 # %% [markdown]
 # ## 5. The two corpora (paper A's cross-dataset benchmark)
