@@ -75,3 +75,22 @@ def test_bvh_info_on_a_broken_file(tmp_path, capsys):
     bad.write_text("HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n")
     assert main(["bvh", "info", str(bad)]) == 2
     assert "broken.bvh" in capsys.readouterr().err
+
+
+def test_train_on_a_folder_converted_from_xia(shared_data, tmp_path, capsys):
+    from data_prep import bvh as prep_bvh
+    folder = tmp_path / "xia"
+    prep_bvh.convert(shared_data / "xia_grid", folder, dialect="auto", labels="xia", windows=True, progress=False)
+    out = tmp_path / "style.pt"
+    assert main(["train", "evaluator_style", "--style", str(folder), "--content", str(folder),
+                 "--steps", "30", "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert summary["steps"] == 30 and out.is_file() and 0 <= summary["test_acc"] <= 100
+    from mslib.evaluation.evaluator import load_classifier
+    styles = {"angry", "childlike", "depressed", "neutral", "old", "proud", "sexy", "strutting"}
+    assert 2 <= len(load_classifier("style", out).classes) and set(load_classifier("style", out).classes) <= styles
+
+
+def test_train_unknown_model_lists_the_known_ones(capsys):
+    assert main(["train", "nope", "--content", "x", "--style", "y"]) == 2
+    assert "evaluator_style" in capsys.readouterr().err

@@ -161,7 +161,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     label = kind
     train_j, train_y = _load_split(folder, "train", label)
     val_j, val_y = _load_split(folder, "val", label)
-    classes = sorted(set(train_y)) if classes is None else list(classes)
+    classes = sorted(set(train_y) | set(val_y)) if classes is None else list(classes)
     index = {c: i for i, c in enumerate(classes)}
     unknown = sorted(set(train_y + val_y) - set(index))
     if unknown:
