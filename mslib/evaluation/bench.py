@@ -157,17 +157,17 @@ def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu
     return {k: row[k] for k in JSON_KEYS}
 
 
-def format_table(rows: list) -> str:
-    """A plain-text table of bench rows."""
-    cols = ("method", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr", "diversity", "ms_per_clip")
+def format_table(rows: list, notebook: bool = False) -> str:
+    """A plain-text table of bench rows; `notebook=True` rounds for nbval and leaves out timings."""
+    cols = ["method", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr", "diversity", "ms_per_clip"]
     fmt = {"method": "{:<12}", "fmd": "{:>8.2f}", "cra": "{:>6.1f}", "sra": "{:>6.1f}", "sra_top3": "{:>8.1f}",
            "h": "{:>6.3f}", "tsi": "{:>6.3f}", "fsf": "{:>6.2f}", "fsr": "{:>6.3f}", "diversity": "{:>9.2f}",
            "ms_per_clip": "{:>11.1f}"}
+    if notebook:  # numbers stable run to run (3 significant digits), no machine-dependent timings
+        cols.remove("ms_per_clip")
+        fmt.update(fmd="{:>8.3g}", h="{:>6.2f}", tsi="{:>6.2f}", fsr="{:>6.2f}", diversity="{:>9.3g}")
     head = " ".join(f"{c:>{len(fmt[c].format(0 if c != 'method' else ''))}}" for c in cols)
-    lines = [head]
-    for r in rows:
-        lines.append(" ".join(fmt[c].format(r[c]) for c in cols))
-    return "\n".join(lines)
+    return "\n".join([head] + [" ".join(fmt[c].format(r[c]) for c in cols) for r in rows])
 
 
 def save_rows(path, rows) -> Path:

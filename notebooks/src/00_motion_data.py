@@ -162,6 +162,47 @@ print("styles (style corpus):", dict(sorted(Counter(r["style"] for r in style_ro
 print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["caption"])
 
 # %% [markdown]
+# ## 6. How the benchmark will measure style transfer
+# Every method in notebooks 02–07 turns a (content clip, style clip) pair into a new motion. An
+# **independent evaluator** — two small temporal conv nets trained once on labelled built-in data
+# (content classes from the content corpus, the eight styles from the style corpus), never seen by
+# any method — scores the outputs:
+#
+# | metric | what it asks | better |
+# |---|---|---|
+# | CRA (%) | does the content classifier still recognise the content motion's action? | ↑ |
+# | SRA (%) | does the style classifier see the style motion's style? (top-3 too) | ↑ |
+# | H | harmonic mean 2·SRA·CRA/(SRA+CRA): only good when both are | ↑ |
+# | FMD | Fréchet distance between evaluator features of outputs and of real style clips | ↓ |
+# | TSI (m) | mean distance between the output's and the content's root paths | ↓ |
+# | FSF (cm/frame) | horizontal foot slide while a foot is near the floor (natural motion is not 0) | ↓ |
+# | FSR | fraction of frames where a grounded foot skates faster than 0.5 m/s | ↓ |
+# | diversity | mean feature distance between random output pairs | — |
+#
+# Two reference "methods" calibrate it: **identity** returns the content motion unchanged (perfect
+# content, no style) and **copy_style** returns the style motion looped to the content's length (all
+# style, no content). Each gets half of the task right, so both have a low H — every real method
+# must beat both.
+
+# %%
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+
+evaluator = Evaluator()            # the packaged course checkpoints (python -m mslib train evaluator_…)
+pairs = load_pairs(seed=0, n_pairs=100)
+rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("identity", "copy_style")]
+print(format_table(rows, notebook=True))
+
+# %%
+fig, ax = plt.subplots(figsize=(5, 2.6))
+for k, r in enumerate(rows):
+    ax.bar([k - 0.2], [r["cra"]], width=0.4, color="tab:blue", label="CRA" if k == 0 else None)
+    ax.bar([k + 0.2], [r["sra"]], width=0.4, color="tab:orange", label="SRA" if k == 0 else None)
+ax.set_xticks(range(len(rows)), [r["method"] for r in rows])
+ax.set(ylabel="accuracy (%)", ylim=(0, 105), title="each reference row gets half of the task right")
+ax.legend()
+_ = fig
+
+# %% [markdown]
 # ## Exercise
 # How many **frames** does the content corpus hold in total (sum of `n_frames` over all clips)?
 # Store it in `answer`.
