@@ -79,7 +79,7 @@ def _train_classifier(kind):
         out = args.out or course_path(NAMES[kind])
         overrides = {"steps": args.steps} if args.steps else {}
         model, history = train_classifier(kind, folder, args.preset, args.seed, out=out, device=args.device,
-                                          progress=not args.json, **overrides)
+                                          progress=not args.json, resume=args.resume, **overrides)
         return {"model": NAMES[kind], "out": str(out), "steps": history["step"][-1],
                 "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
                 "val_acc": round(100 * history["val"]["acc"][-1], 2),
@@ -157,6 +157,7 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--out", default=None, metavar="FILE", help="checkpoint (default: the packaged course one)")
     t.add_argument("--device", default="cpu", help="cpu, cuda, cuda:1, mps …")
     t.add_argument("--steps", type=int, default=None, help="override the preset's number of steps")
+    t.add_argument("--resume", default=None, metavar="FILE", help="continue from a checkpoint of this run")
     t.add_argument("--json", action="store_true")
     t.set_defaults(run=_train)
 

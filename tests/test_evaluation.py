@@ -75,3 +75,35 @@ def test_reference_rows_do_what_they_say():
     # its first 32 frames are the style motion itself (decoded from its own vector)
     np.testing.assert_allclose(copied[:32], F.decode(style["features"]), atol=1e-5)
     assert len(bench.loop_features(np.arange(5)[:, None], 12)) == 12
+
+
+# ---------------------------------------------------------------- the packaged evaluator on the built-in data
+@pytest.fixture(scope="module")
+def builtin():
+    from mslib.data.corpora import load_builtin
+    return load_builtin(seed=0, progress=False)
+
+
+def test_packaged_classifiers_reach_the_bar(builtin):
+    style = E.load_classifier("style")
+    content = E.load_classifier("content")
+    assert len(style.classes) == 8 and len(content.classes) >= 8
+    assert E.test_accuracy(style, builtin["style"]) >= 95.0
+    assert E.test_accuracy(content, builtin["content"]) >= 95.0
+
+
+def test_bench_json_row_and_calibration(builtin, capsys):
+    import json
+    from mslib.cli import main
+    assert main(["bench", "--method", "identity", "--pairs", "40", "--json"]) == 0
+    row = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert tuple(sorted(row)) == tuple(sorted(bench.JSON_KEYS)) and row["pairs"] == 40
+    assert row["cra"] >= 95 and row["tsi"] == 0.0 and 0 <= row["h"] <= 1
+    assert main(["bench", "--method", "copy_style", "--pairs", "40", "--json"]) == 0
+    copy = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert copy["sra"] >= 90 and copy["cra"] < 50 and copy["tsi"] > 0.5
+    other = bench.load_pairs(seed=1, n_pairs=40)
+    same = bench.load_pairs(seed=0, n_pairs=40)
+    assert [c["clip_id"] for c, _ in same] != [c["clip_id"] for c, _ in other]
+    assert main(["bench", "--method", "nope"]) == 2
+    assert "known methods" in capsys.readouterr().err

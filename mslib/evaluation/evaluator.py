@@ -151,7 +151,8 @@ def _load_split(folder, split: str, label: str):
 
 
 def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, out=None,
-                     device: str = "cpu", progress: bool = True, classes=None, **overrides) -> tuple:
+                     device: str = "cpu", progress: bool = True, classes=None, resume=None,
+                     **overrides) -> tuple:
     """Train the content or style classifier on a dataset folder's train split; returns (model, history)."""
     from ..training import TrainConfig, fit
     if kind not in NAMES:
@@ -173,7 +174,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     model.mean, model.std = train_set.stats()
     cfg = TrainConfig(seed=seed, **{**PRESETS[preset], **overrides})
     history = fit(model, train_set, cfg, val_set=val_set, model_name=NAMES[kind], out=out,
-                  device=device, progress=progress)
+                  device=device, progress=progress, resume=resume)
     return model.eval(), history
 
 
