@@ -102,6 +102,8 @@ def fit(model: torch.nn.Module, train_set: Dataset, cfg: TrainConfig, val_set: D
     """Train `model`; returns the history {"step", "train": {...}, "val": {...}, "seconds", "stopped"}."""
     rank, world = distributed_context()
     device = torch.device(device)
+    if world > 1 and device.type == "cuda" and device.index is None:  # one GPU per process
+        device = torch.device("cuda", int(os.environ.get("LOCAL_RANK", "0")))
     seed_everything(cfg.seed + rank)
     model.to(device)
     params = [p for p in (parameters if parameters is not None else model.parameters()) if p.requires_grad]
