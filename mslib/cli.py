@@ -10,6 +10,16 @@ def _print_json(obj) -> None:
     print(json.dumps(obj, sort_keys=True))
 
 
+def _report(summary: dict, as_json: bool, width: int = 16) -> int:
+    """Print a summary as one JSON line or as aligned `key: value` lines; exit status 0."""
+    if as_json:
+        _print_json(summary)
+    else:
+        for key, value in summary.items():
+            print(f"{key:>{width}}: {value}")
+    return 0
+
+
 # ---------------------------------------------------------------- features
 def _features(args) -> int:
     from .fileio import atomic_save_npy, load_npy
@@ -53,12 +63,7 @@ def _bvh_info(args) -> int:
 def _data_build(args) -> int:
     from .data.corpora import build_corpora
     summary = build_corpora(out_dir=args.out, seed=args.seed, force=args.force, progress=not args.json)
-    if args.json:
-        _print_json(summary)
-    else:
-        for key, value in summary.items():
-            print(f"{key:>20}: {value}")
-    return 0
+    return _report(summary, args.json, width=20)
 
 
 # ---------------------------------------------------------------- train
@@ -97,13 +102,7 @@ def _train(args) -> int:
     if args.model not in TRAINERS:
         raise ValueError(f"MODEL {args.model!r} is unknown; trainable models: {', '.join(sorted(TRAINERS))}")
     content, style = _corpus_dirs(args)
-    summary = TRAINERS[args.model](args, content, style)
-    if args.json:
-        _print_json(summary)
-    else:
-        for key, value in summary.items():
-            print(f"{key:>12}: {value}")
-    return 0
+    return _report(TRAINERS[args.model](args, content, style), args.json, width=12)
 
 
 # ---------------------------------------------------------------- bench

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fileio import atomic_write_bytes
+from .dataset_folder import write_csv, write_labels, write_meta
 from .batch_features import encode_many
 from .styles import CONTENTS, STYLE_CONTENTS, STYLES, SUBSTYLES
 from .retarget import canonicalize, window_starts
@@ -47,8 +48,7 @@ CONTENT_FPS, TAKE_FPS = 20.0, 30.0
 WINDOW, STRIDE = 32, 24  # 32-frame windows with 8 frames of overlap (A §4.1)
 TAKE_DURATION = (5.0, 8.0)  # seconds
 CONTENT_INTENSITY = (0.0, 0.5)  # "mild random style"
-LABEL_COLUMNS = ("clip_id", "split", "style", "substyle", "content", "caption", "n_frames",
-                 "source_file", "take", "seed", "index", "intensity", "start_frame")
+EXTRA_COLUMNS = ("take", "seed", "index", "intensity", "start_frame")  # after the §8 columns
 _TAKE_INDEX = 1_000_000  # takes draw from other generator streams than content clips
 
 
@@ -61,7 +61,7 @@ def source_fingerprint() -> str:
                                          ("features.py", "skeleton.py", "rotations.py", "bvh.py")]
     h = hashlib.sha256()
     for f in files:
-        if f.name not in ("datasets.py", "dataset_folder.py", "__init__.py"):
+        if f.name not in ("datasets.py", "__init__.py"):
             h.update(f.name.encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:8]
 
@@ -217,19 +217,11 @@ def _take_chunk(root: str, specs: list):
 
 
 # ---------------------------------------------------------------- writing folders
-def _write_csv(path: Path, rows: list, columns) -> None:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(columns), lineterminator="\n", extrasaction="ignore")
-    writer.writeheader()
-    writer.writerows(rows)
-    atomic_write_bytes(path, buf.getvalue().encode("utf-8"))
-
-
 def _finish_folder(folder: Path, name: str, rows: list, stats: _Stats, seed: int, **meta) -> dict:
     """labels.csv, mean.npy/std.npy of the train split, meta.json."""
     from ..motion.features import Normalizer, block_averaged_std
     rows = sorted(rows, key=lambda r: r["clip_id"])
-    _write_csv(folder / "labels.csv", rows, LABEL_COLUMNS)
+    write_labels(folder, rows, EXTRA_COLUMNS)
     mean = stats.s1 / max(stats.n, 1)
     std = np.sqrt(np.maximum(stats.s2 / max(stats.n, 1) - mean ** 2, 0.0))
     Normalizer(mean, block_averaged_std(std)).save(folder)
@@ -238,7 +230,7 @@ def _finish_folder(folder: Path, name: str, rows: list, stats: _Stats, seed: int
             "source": f"mslib built-in stylized mocap, generator v{GENERATOR_VERSION}, seed {seed}",
             "generator_version": GENERATOR_VERSION, "seed": seed, "n_clips": len(rows), "splits": splits,
             "styles": list(STYLES), "substyles": {k: list(v) for k, v in SUBSTYLES.items()}, **meta}
-    atomic_write_bytes(folder / "meta.json", json.dumps(info, indent=2, sort_keys=True).encode())
+    write_meta(folder, info)
     return info
 
 
@@ -297,7 +289,7 @@ def _run(root: Path, seed: int, sizes: dict, workers: int, progress: bool) -> di
     sinfo = _finish_folder(root / "style", "builtin-style", style_rows, sstats, seed,
                            contents=list(STYLE_CONTENTS), window=WINDOW, overlap=WINDOW - STRIDE,
                            takes=len(take_rows), raw="../style_bvh (mocap skeleton, cm, 30 fps)")
-    _write_csv(root / "style_bvh" / "takes.csv", sorted(take_rows, key=lambda r: r["take"]),
+    write_csv(root / "style_bvh" / "takes.csv", sorted(take_rows, key=lambda r: r["take"]),
                ("take", "file", "split", "style", "substyle", "content", "caption", "n_frames", "fps",
                 "seed", "index"))
     from .datasets import benchmark_pairs, write_pairs

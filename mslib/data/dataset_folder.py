@@ -81,14 +81,19 @@ class DatasetWriter:
         return dict(self.meta)
 
 
-def write_labels(folder, rows) -> None:
-    """labels.csv from a list of dicts (missing columns left empty), atomically."""
+def write_labels(folder, rows, extra_columns=()) -> None:
+    """labels.csv from a list of dicts (the §8 columns, then any extra ones), atomically."""
+    write_csv(Path(folder) / "labels.csv", rows, LABEL_COLUMNS + tuple(extra_columns))
+
+
+def write_csv(path, rows, columns) -> None:
+    """A CSV of dicts with the given columns (missing values empty, others ignored), atomically."""
     import io
     buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=LABEL_COLUMNS, lineterminator="\n", extrasaction="ignore")
+    writer = csv.DictWriter(buf, fieldnames=list(columns), lineterminator="\n", extrasaction="ignore")
     writer.writeheader()
-    writer.writerows([{c: r.get(c, "") for c in LABEL_COLUMNS} for r in rows])
-    atomic_write_bytes(Path(folder) / "labels.csv", buf.getvalue().encode("utf-8"))
+    writer.writerows([{c: r.get(c, "") for c in columns} for r in rows])
+    atomic_write_bytes(Path(path), buf.getvalue().encode("utf-8"))
 
 
 def write_meta(folder, meta: dict) -> None:
