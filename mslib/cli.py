@@ -77,14 +77,14 @@ def _corpus_dirs(args) -> tuple:
 
 
 def _train_classifier(kind):
-    def run(args, content, style):
+    def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True):
         from .checkpoints import course_path
         from .evaluation.evaluator import NAMES, test_accuracy, train_classifier
         folder = content if kind == "content" else style
-        out = args.out or course_path(NAMES[kind])
-        overrides = {"steps": args.steps} if args.steps else {}
-        model, history = train_classifier(kind, folder, args.preset, args.seed, out=out, device=args.device,
-                                          progress=not args.json, resume=args.resume, **overrides)
+        out = out or course_path(NAMES[kind])
+        overrides = {"steps": steps} if steps else {}
+        model, history = train_classifier(kind, folder, preset, seed, out=out, device=device,
+                                          progress=progress, resume=resume, **overrides)
         return {"model": NAMES[kind], "out": str(out), "steps": history["step"][-1],
                 "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
                 "val_acc": round(100 * history["val"]["acc"][-1], 2),
@@ -92,17 +92,36 @@ def _train_classifier(kind):
     return run
 
 
-TRAINERS = {  # model name → run(args, content_dir, style_dir) -> summary dict; later issues add theirs
-    "evaluator_content": _train_classifier("content"),
-    "evaluator_style": _train_classifier("style"),
-}
+# Model modules add trainers by defining TRAINABLE = {name: run}, where
+#   run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True)
+# trains on the dataset folders `content`/`style`, writes the checkpoint (default: the packaged course
+# one) and returns a JSON-able summary dict.
+TRAINER_MODULES = ("mslib.models.adain", "mslib.models.dsdn", "mslib.models.contrastive",
+                   "mslib.models.vae", "mslib.models.text", "mslib.models.mcm_ldm",
+                   "mslib.models.clusterstyle")
+
+
+def trainers() -> dict:
+    """Every trainable model name → its run function (importing the model modules that exist)."""
+    import importlib
+    found = {"evaluator_content": _train_classifier("content"), "evaluator_style": _train_classifier("style")}
+    for mod in TRAINER_MODULES:
+        try:
+            found.update(getattr(importlib.import_module(mod), "TRAINABLE", {}))
+        except ModuleNotFoundError as e:
+            if e.name != mod:
+                raise
+    return found
 
 
 def _train(args) -> int:
-    if args.model not in TRAINERS:
-        raise ValueError(f"MODEL {args.model!r} is unknown; trainable models: {', '.join(sorted(TRAINERS))}")
+    found = trainers()
+    if args.model not in found:
+        raise ValueError(f"MODEL {args.model!r} is unknown; trainable models: {', '.join(sorted(found))}")
     content, style = _corpus_dirs(args)
-    return _report(TRAINERS[args.model](args, content, style), args.json, width=12)
+    summary = found[args.model](args.preset, content, style, seed=args.seed, out=args.out, device=args.device,
+                                steps=args.steps, resume=args.resume, progress=not args.json)
+    return _report(summary, args.json, width=12)
 
 
 # ---------------------------------------------------------------- bench
