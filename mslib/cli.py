@@ -136,6 +136,24 @@ def _bench(args) -> int:
     return 0
 
 
+# ---------------------------------------------------------------- transfer, perf
+def _transfer(args) -> int:
+    from .evaluation.transfer_io import run_transfer
+    summary = run_transfer(args.method, args.content, args.style, args.out, force=args.force, device=args.device)
+    return _report(summary, args.json)
+
+
+def _perf(args) -> int:
+    from .evaluation.perf import format_perf, run_perf
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()] if args.methods else None
+    report = run_perf(methods, repeats=args.repeats, device=args.device)
+    if args.json:
+        _print_json(report)
+    else:
+        print(format_perf(report))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser for every command."""
     p = argparse.ArgumentParser(prog="python -m mslib", description="Motion Style Workbook command line")
@@ -188,6 +206,23 @@ def build_parser() -> argparse.ArgumentParser:
     be.add_argument("--device", default="cpu")
     be.add_argument("--json", action="store_true")
     be.set_defaults(run=_bench)
+
+    tr = sub.add_parser("transfer", help="one content motion in one style, written as .bvh, .npy or .gif")
+    tr.add_argument("--method", required=True)
+    tr.add_argument("--content", required=True, metavar="X", help="built-in clip id, .npy (263-d or T×22×3) or .bvh")
+    tr.add_argument("--style", required=True, metavar="Y", help="built-in clip id, .npy (263-d or T×22×3) or .bvh")
+    tr.add_argument("--out", required=True, metavar="OUT", help="OUT.bvh (metres), OUT.npy (263-d) or OUT.gif")
+    tr.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
+    tr.add_argument("--device", default="cpu")
+    tr.add_argument("--json", action="store_true")
+    tr.set_defaults(run=_transfer)
+
+    pf = sub.add_parser("perf", help="inference ms per 64-frame clip and parameter count per method")
+    pf.add_argument("--methods", default=None, metavar="A,B", help="comma-separated (default: all registered)")
+    pf.add_argument("--repeats", type=int, default=20, help="timed transfers per method (median reported)")
+    pf.add_argument("--device", default="cpu")
+    pf.add_argument("--json", action="store_true")
+    pf.set_defaults(run=_perf)
     return p
 
 

@@ -5,6 +5,11 @@ A method is a factory registered under a name; the factory (given a device) retu
 where each dict holds "features" ((T−1)×263, unnormalised), "joints" (T×22×3) and its labels.
 Later issues add their models with `@register("adain")` in their own modules; `identity` and
 `copy_style` are the reference rows every method must beat on H.
+
+Parameter count (for `python -m mslib perf`, evaluation/perf.py): a factory may give the transfer
+callable it returns an attribute `n_parameters` (int: every parameter the method uses at inference,
+e.g. `transfer.n_parameters = sum(p.numel() for p in model.parameters())`), or return an object with
+a `.parameters()` method (an nn.Module). Without either, perf reports the count as unknown.
 """
 from __future__ import annotations
 
@@ -57,7 +62,10 @@ def get_method(name: str, device: str = "cpu"):
 # ---------------------------------------------------------------- the reference rows
 @register("identity", "output = the content motion (perfect content, no style)")
 def _identity(device="cpu"):
-    return lambda content, style: np.asarray(content["joints"], np.float64)
+    def transfer(content, style):
+        return np.asarray(content["joints"], np.float64)
+    transfer.n_parameters = 0
+    return transfer
 
 
 def loop_features(features, n_rows: int) -> np.ndarray:
@@ -70,6 +78,7 @@ def loop_features(features, n_rows: int) -> np.ndarray:
 def _copy_style(device="cpu"):
     def transfer(content, style):
         return decode(loop_features(style["features"], len(content["features"])).astype(np.float64))
+    transfer.n_parameters = 0
     return transfer
 
 
