@@ -1,0 +1,338 @@
+"""Paper D's prototype clustering of style features (D §3.2–3.3, DESIGN.md §6).
+
+A transformer style encoder turns a motion into per-frame tokens; their mean over time is the
+global feature and their means over windows of `w` frames the local features, all L2-normalised.
+Each style owns K global and K' local prototypes — unit vectors that are *not* trained by
+gradients: a balanced Sinkhorn–Knopp assignment maps each feature to one of its style's
+prototypes, the prototypes follow their assigned features by EMA, and two InfoNCE losses pull a
+feature to its prototype against the other styles' (inter) and all other (intra) prototypes.
+
+Input: the 263-d features normalised with the model's Normalizer (the content corpus statistics,
+the same the motion VAE uses). Why not joint positions (paper A's choice): prototype guidance
+(D Eq. 9) differentiates the style feature of the VAE decoder's output, which *is* a normalised
+263-d vector, and that vector already holds the root-relative joint positions (posture) besides
+velocities (tempo, bounce) and contacts — no differentiable decoding to positions is needed.
+
+`head="classifier"` swaps the prototypes for a learnable linear head trained with cross-entropy,
+the "w/o clustering" row of D Table 3.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import torch
+import torch.distributed as dist
+import torch.nn.functional as F
+from torch import nn
+
+from .layers import PositionalEncoding, transformer_encoder
+
+HEADS = ("prototypes", "classifier")
+
+
+@dataclass
+class PrototypeConfig:
+    """Style encoder and prototype settings; defaults are paper D's (§3.5), `course()` the CPU preset."""
+
+    n_styles: int = 8
+    input_dim: int = 263
+    dim: int = 512  # D §3.5: 6 layers, width 512
+    layers: int = 6
+    heads: int = 8
+    dropout: float = 0.1
+    k_global: int = 3  # D §3.5 and Table 3
+    k_local: int = 30
+    window: int = 16  # w: local segment length in frames (not given in D's text)
+    epsilon: float = 0.05  # Sinkhorn entropy weight (DESIGN §6)
+    sinkhorn_iters: int = 3
+    momentum: float = 0.95  # D Eq. 8
+    tau: float = 0.05  # D Eq. 5–6 temperature
+    freeze_after: int = 1800  # D §3.5: prototype updates stop after 1800 of 3500 iterations
+    head: str = "prototypes"  # or "classifier" (D Table 3, first row)
+
+    def __post_init__(self):
+        if self.head not in HEADS:
+            raise ValueError(f"head: expected one of {HEADS}, got {self.head!r}")
+        for name in ("n_styles", "dim", "layers", "heads", "k_global", "k_local", "window", "sinkhorn_iters"):
+            if int(getattr(self, name)) < 1:
+                raise ValueError(f"{name}: must be a positive integer, got {getattr(self, name)}")
+        if not 0.0 <= self.momentum < 1.0:
+            raise ValueError(f"momentum: must be in [0, 1), got {self.momentum}")
+        if self.epsilon <= 0 or self.tau <= 0:
+            raise ValueError(f"epsilon and tau: must be positive, got {self.epsilon} and {self.tau}")
+
+    @classmethod
+    def paper(cls, **kw) -> "PrototypeConfig":
+        """Paper D's sizes (§3.5)."""
+        return cls(**kw)
+
+    @classmethod
+    def course(cls, **kw) -> "PrototypeConfig":
+        """CPU preset for the built-in style corpus.
+
+        k_global = 3: every built-in style has 2–4 named sub-styles (3 on average; ~155 train clips
+        per style, so ~50 clips per prototype). window = 10 frames ≈ one step at 20 fps, so a
+        32-frame clip (31 feature rows) gives 3 local features; k_local = 6 ≈ 3 sub-styles × the two
+        halves of a gait cycle (~470 local features per style, ~80 per prototype) — 30 prototypes
+        would leave ~15 features each, too few for stable centroids. Training is 300 steps, the
+        prototypes freeze after 150 (D's ratio, 1800/3500 ≈ 0.5). No dropout: it triples the CPU
+        cost of a step and the style loss does not overfit in 300 steps."""
+        base = dict(dim=64, layers=2, heads=4, dropout=0.0, k_global=3, k_local=6, window=10, freeze_after=150)
+        base.update(kw)
+        return cls(**base)
+
+
+# ---------------------------------------------------------------- the pieces, as functions
+def sinkhorn(scores: torch.Tensor, epsilon: float = 0.05, iters: int = 3) -> torch.Tensor:
+    """Balanced soft assignment of N features to K prototypes from scores (N, K) → Q (N, K).
+
+    DESIGN §6: Q = argmax Tr(Qᵀ Pᵀ F) + ε H(Q) with every prototype used about N/K times, solved
+    by Sinkhorn–Knopp on exp(PᵀF / ε): alternately scale the prototype columns to 1/K and the
+    feature rows to 1/N. Returned rows sum to 1 (one feature, one unit of mass); column sums ≈ N/K."""
+    if scores.ndim != 2 or scores.shape[0] < 1 or scores.shape[1] < 1:
+        raise ValueError(f"scores: expected a non-empty (N, K) matrix, got shape {tuple(scores.shape)}")
+    n, k = scores.shape
+    s = scores.detach().double() / epsilon
+    q = torch.exp(s - s.max())  # (N, K), ≤ 1
+    q = q / q.sum()
+    for _ in range(int(iters)):
+        q = q / q.sum(0, keepdim=True).clamp_min(1e-300) / k  # each prototype holds 1/K of the mass
+        q = q / q.sum(1, keepdim=True).clamp_min(1e-300) / n  # each feature holds 1/N
+    return (q * n).to(scores.dtype)
+
+
+def ema_update(prototypes: torch.Tensor, means: torch.Tensor, momentum: float) -> torch.Tensor:
+    """D Eq. 8: p ← normalise(m·p + (1 − m)·mean of assigned features); (K, D) each."""
+    return F.normalize(momentum * prototypes + (1.0 - momentum) * means, dim=-1)
+
+
+def prototype_nce(features: torch.Tensor, styles: torch.Tensor, assigned: torch.Tensor,
+                  prototypes: torch.Tensor, tau: float = 0.05) -> tuple:
+    """Inter- and intra-style prototype InfoNCE (D Eq. 5–6) → (L_inter, L_intra), scalars.
+
+    features (N, D) and prototypes (C, K, D) unit vectors; styles (N,) in [0, C); assigned (N,) in [0, K).
+    Positive: the assigned prototype of the feature's own style. Inter: negatives are the other
+    styles' prototypes only; intra: every other prototype, own style's included."""
+    c, k, _ = prototypes.shape
+    logits = features @ prototypes.reshape(c * k, -1).T / tau  # cos / τ, (N, C·K)
+    target = styles * k + assigned  # (N,)
+    l_intra = F.cross_entropy(logits, target)  # D Eq. 6
+    own = (torch.arange(c * k, device=features.device)[None] // k) == styles[:, None]  # (N, C·K)
+    own = own & (torch.arange(c * k, device=features.device)[None] != target[:, None])
+    l_inter = F.cross_entropy(logits.masked_fill(own, float("-inf")), target)  # D Eq. 5
+    return l_inter, l_intra
+
+
+def local_means(tokens: torch.Tensor, window: int) -> torch.Tensor:
+    """Means of (B, T, D) tokens over non-overlapping windows of `window` frames → (B, T // window, D).
+
+    A trailing remainder shorter than a window is left out; a clip shorter than one window gives one
+    segment (its whole length)."""
+    b, t, d = tokens.shape
+    n = max(1, t // window)
+    w = min(window, t)
+    return tokens[:, :n * w].reshape(b, n, w, d).mean(2)
+
+
+# ---------------------------------------------------------------- the modules
+class StyleEncoder(nn.Module):
+    """Transformer on normalised 263-d features → per-frame tokens (B, T, D)."""
+
+    def __init__(self, cfg: PrototypeConfig):
+        super().__init__()
+        self.inp = nn.Linear(cfg.input_dim, cfg.dim)
+        self.pos = PositionalEncoding(cfg.dim)
+        self.body = transformer_encoder(cfg.dim, cfg.heads, cfg.layers, dropout=cfg.dropout)
+        self.out = nn.LayerNorm(cfg.dim)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.out(self.body(self.pos(self.inp(x))))  # (B, T, D)
+
+
+class PrototypeBank(nn.Module):
+    """Per-style prototypes (C, K, D) as buffers: Sinkhorn assignment, EMA update, freezing."""
+
+    def __init__(self, n_styles: int, k: int, dim: int, seed: int = 0):
+        super().__init__()
+        g = torch.Generator().manual_seed(seed)
+        self.register_buffer("prototypes", F.normalize(torch.randn(n_styles, k, dim, generator=g), dim=-1))
+        self.register_buffer("frozen", torch.zeros((), dtype=torch.bool))
+
+    @property
+    def k(self) -> int:
+        return self.prototypes.shape[1]
+
+    @torch.no_grad()
+    def assign(self, features: torch.Tensor, styles: torch.Tensor, epsilon: float = 0.05,
+               iters: int = 3) -> torch.Tensor:
+        """Prototype index (N,) of each feature among its own style's, by Sinkhorn then argmax."""
+        out = torch.zeros(len(features), dtype=torch.long, device=features.device)
+        for c in styles.unique():
+            rows = (styles == c).nonzero().squeeze(1)
+            scores = features[rows] @ self.prototypes[c].T  # cos, (n_c, K)
+            out[rows] = sinkhorn(scores, epsilon, iters).argmax(1)
+        return out
+
+    @torch.no_grad()
+    def update(self, features: torch.Tensor, styles: torch.Tensor, assigned: torch.Tensor, momentum: float):
+        """EMA of every prototype that received features this step (summed over DDP ranks)."""
+        if bool(self.frozen):
+            return
+        c, k, d = self.prototypes.shape
+        slot = styles * k + assigned  # (N,)
+        sums = torch.zeros(c * k, d, device=features.device).index_add_(0, slot, features.float())
+        counts = torch.bincount(slot, minlength=c * k).float()
+        if dist.is_available() and dist.is_initialized():
+            dist.all_reduce(sums)
+            dist.all_reduce(counts)
+        hit = counts > 0
+        flat = self.prototypes.reshape(c * k, d).clone()
+        flat[hit] = ema_update(flat[hit], sums[hit] / counts[hit, None], momentum)
+        self.prototypes.copy_(flat.reshape(c, k, d))
+
+    def freeze(self) -> None:
+        """Stop EMA updates from now on (D §3.5)."""
+        self.frozen.fill_(True)
+
+
+class PrototypeStyleModel(nn.Module):
+    """Style encoder + global and local prototype banks (or a classification head) and L_style (D Eq. 10)."""
+
+    def __init__(self, cfg: PrototypeConfig | None = None, seed: int = 0):
+        super().__init__()
+        self.cfg = cfg or PrototypeConfig.course()
+        self.config = {"prototypes": asdict(self.cfg)}
+        self.encoder = StyleEncoder(self.cfg)
+        if self.cfg.head == "prototypes":
+            self.global_bank = PrototypeBank(self.cfg.n_styles, self.cfg.k_global, self.cfg.dim, seed)
+            self.local_bank = PrototypeBank(self.cfg.n_styles, self.cfg.k_local, self.cfg.dim, seed + 1)
+        else:  # D Table 3, "w/o clustering": learnable class vectors, cross-entropy
+            self.global_head = nn.Linear(self.cfg.dim, self.cfg.n_styles)
+            self.local_head = nn.Linear(self.cfg.dim, self.cfg.n_styles)
+        self.register_buffer("steps", torch.zeros((), dtype=torch.long))
+
+    def features(self, x: torch.Tensor) -> tuple:
+        """Normalised features (B, T, 263) → global (B, D) and local (B, W, D) unit vectors (D §3.3)."""
+        if x.ndim != 3 or x.shape[-1] != self.cfg.input_dim:
+            raise ValueError(f"x: expected (B, T, {self.cfg.input_dim}) features, got shape {tuple(x.shape)}")
+        tokens = self.encoder(x)  # (B, T, D)
+        g = F.normalize(tokens.mean(1), dim=-1)  # global: mean over time
+        loc = F.normalize(local_means(tokens, self.cfg.window), dim=-1)  # local: means over windows
+        return g, loc
+
+    def style_tokens(self, x: torch.Tensor) -> torch.Tensor:
+        """The style representation for the SMA: [global; local] features, (B, 1 + W, D) (D §3.3)."""
+        g, loc = self.features(x)
+        return torch.cat([g[:, None], loc], 1)
+
+    def style_loss(self, x: torch.Tensor, styles: torch.Tensor, update: bool = True) -> dict:
+        """L_style = L_g + L_l, each L_inter + L_intra (D Eq. 7, 10); EMA-updates unless frozen."""
+        g, loc = self.features(x)
+        w = loc.shape[1]
+        loc_flat, loc_styles = loc.reshape(-1, loc.shape[-1]), styles.repeat_interleave(w)
+        if self.cfg.head == "classifier":
+            l_g = F.cross_entropy(self.global_head(g), styles)
+            l_l = F.cross_entropy(self.local_head(loc_flat), loc_styles)
+            return {"loss": l_g + l_l, "global": l_g.detach(), "local": l_l.detach()}
+        logs = {}
+        total = 0.0
+        for name, f, s, bank in (("global", g, styles, self.global_bank), ("local", loc_flat, loc_styles, self.local_bank)):
+            assigned = bank.assign(f.detach(), s, self.cfg.epsilon, self.cfg.sinkhorn_iters)
+            l_inter, l_intra = prototype_nce(f, s, assigned, bank.prototypes.clone(), self.cfg.tau)  # EMA below is in place
+            if update and self.training:
+                bank.update(f.detach(), s, assigned, self.cfg.momentum)
+            total = total + l_inter + l_intra  # D Eq. 7 per level, summed over levels (Eq. 10)
+            logs[f"{name}_inter"], logs[f"{name}_intra"] = l_inter.detach(), l_intra.detach()
+        logs["loss"] = total
+        return logs
+
+    def tick(self) -> None:
+        """Count a training step; freeze both banks once `freeze_after` steps have passed."""
+        self.steps += 1
+        if self.cfg.head == "prototypes" and int(self.steps) >= self.cfg.freeze_after:
+            self.global_bank.freeze()
+            self.local_bank.freeze()
+
+    @torch.no_grad()
+    def predict_style(self, x: torch.Tensor) -> torch.Tensor:
+        """Style index (B,) of the nearest global prototype (or the head's argmax)."""
+        g, _ = self.features(x)
+        if self.cfg.head == "classifier":
+            return self.global_head(g).argmax(1)
+        sims = torch.einsum("bd,ckd->bck", g, self.global_bank.prototypes)  # (B, C, K)
+        return sims.amax(2).argmax(1)
+
+    @torch.no_grad()
+    def assign_global(self, x: torch.Tensor, styles: torch.Tensor) -> torch.Tensor:
+        """Nearest global prototype (B,) of each clip within its own style (no balancing)."""
+        g, _ = self.features(x)
+        return torch.einsum("bd,bkd->bk", g, self.global_bank.prototypes[styles]).argmax(1)
+
+    def training_step(self, batch: dict) -> dict:
+        logs = self.style_loss(batch["features"], batch["style_index"])
+        self.tick()
+        return logs
+
+    @torch.no_grad()
+    def validation_step(self, batch: dict) -> dict:
+        pred = self.predict_style(batch["features"])
+        return {"acc": float((pred == batch["style_index"]).float().mean())}
+
+
+# ---------------------------------------------------------------- training (the style stage)
+class NormalizedClips(torch.utils.data.Dataset):
+    """A dataset of unnormalised clips, normalised with given 263-d mean/std (the model's statistics)."""
+
+    def __init__(self, dataset, mean, std):
+        self.dataset = dataset
+        self.mean = torch.as_tensor(mean, dtype=torch.float32)
+        self.std = torch.as_tensor(std, dtype=torch.float32)
+
+    def __len__(self) -> int:
+        return len(self.dataset)
+
+    def __getitem__(self, i: int) -> dict:
+        item = dict(self.dataset[i])
+        item["features"] = (item["features"] - self.mean) / self.std
+        return item
+
+
+def style_train_config(preset: str, seed: int = 0, steps: int | None = None):
+    """(PrototypeConfig, TrainConfig) of the style stage for a preset."""
+    from ..training import TrainConfig
+    if preset == "course":
+        cfg = PrototypeConfig.course()
+        train = TrainConfig(steps=300, batch_size=64, lr=1e-3, warmup_steps=30, schedule="cosine",
+                            val_every=100, seed=seed)
+    elif preset == "paper":  # D §3.5: AdamW, batch 128, lr 2e-5, 500 warm-up + 3000 constant
+        cfg = PrototypeConfig.paper()
+        train = TrainConfig(steps=3500, batch_size=128, lr=2e-5, warmup_steps=500, schedule="constant",
+                            val_every=250, seed=seed)
+    else:
+        raise ValueError(f"preset: expected 'course' or 'paper', got {preset!r}")
+    if steps:
+        train.steps = int(steps)
+        cfg.freeze_after = max(1, int(round(cfg.freeze_after * steps / (300 if preset == "course" else 3500))))
+    return cfg, train
+
+
+def train_style_model(preset: str, content, style, seed: int = 0, out=None, device: str = "cpu",
+                      steps: int | None = None, resume=None, progress: bool = True, head: str = "prototypes",
+                      model_name: str = "clusterstyle_style", **overrides) -> tuple:
+    """Train the style encoder and its prototypes (or a classifier head) on the style corpus; (model, history)."""
+    from ..data.datasets import StyleClips
+    from ..motion.features import Normalizer
+    from ..training import fit
+    cfg, train = style_train_config(preset, seed, steps)
+    cfg.head = head
+    for k, v in overrides.items():
+        setattr(cfg, k, v)
+    cfg.__post_init__()
+    norm = Normalizer.load(content)  # the content corpus statistics, shared with the motion VAE
+    model = PrototypeStyleModel(cfg, seed=seed)
+    model.config["normalizer"] = "content"
+    data = {s: NormalizedClips(StyleClips(style, s, normalize=False, joints=False), norm.mean, norm.std)
+            for s in ("train", "val")}
+    history = fit(model, data["train"], train, val_set=data["val"], model_name=model_name, out=out,
+                  resume=resume, device=device, progress=progress)
+    return model, history
