@@ -1,5 +1,7 @@
 """`python -m mslib transfer`: inputs (clip ids, .npy, .bvh), outputs (.bvh round trip, .npy, .gif), errors."""
 import json
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -80,6 +82,42 @@ def test_bvh_round_trip_real_humanml3d(tmp_path, capsys, shared_data, clips):
     # the written BVH is an input too: auto dialect, registration, the same motion back
     again = load_motion(tmp_path / "pos.bvh", "--content")
     assert again["joints"].shape == positions.shape and max_error(again["joints"], positions) < 1 * CM
+
+
+BLENDER_SCRIPT = """
+import builtins, json, sys
+import bpy
+import io_anim_bvh.import_bvh as importer
+# Debian's Blender 3.4 opens the file with mode "rU", which Python 3.11 no longer accepts
+importer.open = lambda f, mode="r", *a, **k: builtins.open(f, mode.replace("U", ""), *a, **k)
+path, out, n = sys.argv[sys.argv.index("--") + 1:]
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.import_anim.bvh(filepath=path, global_scale=1.0, frame_start=1, use_fps_scale=False,
+                        rotate_mode="NATIVE", axis_forward="-Z", axis_up="Y")
+arm = [o for o in bpy.context.scene.objects if o.type == "ARMATURE"][0]
+frames = []
+for f in range(1, int(n) + 1):
+    bpy.context.scene.frame_set(f)
+    frames.append({b.name: list(arm.matrix_world @ b.head) for b in arm.pose.bones})
+json.dump(frames, open(out, "w"))
+"""
+
+
+@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed (apt-get install blender)")
+def test_blender_imports_the_bvh(tmp_path, capsys, clips):
+    """Blender's own BVH importer (Z up) gives back the joint positions, so the file opens in Blender."""
+    out = tmp_path / "out.bvh"
+    assert transfer(tmp_path, capsys, "--method", "identity", "--content", clips[1], "--style", clips[1],
+                    "--out", out)[0] == 0
+    expected = load_motion(clips[1])["joints"]
+    (tmp_path / "read.py").write_text(BLENDER_SCRIPT)
+    subprocess.run(["blender", "-b", "--factory-startup", "--python", str(tmp_path / "read.py"), "--",
+                    str(out), str(tmp_path / "pose.json"), str(len(expected))],
+                   check=True, capture_output=True, timeout=300)
+    frames = json.loads((tmp_path / "pose.json").read_text())
+    heads = np.array([[f[name] for name in JOINT_NAMES] for f in frames])  # Blender: X, −Z(bvh), Y(bvh)
+    got = np.stack([heads[..., 0], heads[..., 2], -heads[..., 1]], -1)
+    assert max_error(got, expected) < 1 * CM
 
 
 # ---------------------------------------------------------------- .npy, .gif

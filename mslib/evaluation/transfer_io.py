@@ -30,6 +30,7 @@ from .bench import get_method
 OUTPUT_KINDS = (".bvh", ".npy", ".gif")
 FPS = 20.0
 GIF_MAX_FRAMES = 100  # longer outputs are subsampled in time
+GIF_DPI = 90
 
 
 # ---------------------------------------------------------------- inputs
@@ -138,7 +139,8 @@ def save_gif(path, positions, fps: float = FPS, title: str | None = None) -> Pat
     from matplotlib.animation import PillowWriter
 
     from ..viz import animate
-    anim = animate([positions], titles=[title] if title else None, fps=fps, max_frames=GIF_MAX_FRAMES)
+    anim = animate([positions], titles=[title] if title else None, fps=fps, max_frames=GIF_MAX_FRAMES,
+                   dpi=GIF_DPI, panel_size=4.0)
     step = int(np.ceil(len(positions) / GIF_MAX_FRAMES))
     with tempfile.TemporaryDirectory() as tmp:
         tmp_gif = Path(tmp) / "anim.gif"
