@@ -126,13 +126,17 @@ def _train(args) -> int:
 
 # ---------------------------------------------------------------- bench
 def _bench(args) -> int:
-    from .evaluation.bench import format_table, load_pairs, run_bench
+    from .evaluation.bench import Evaluator, format_table, known_methods, load_pairs, run_bench
+    methods = known_methods() if args.method == "all" else [m.strip() for m in args.method.split(",") if m.strip()]
     pairs = load_pairs(args.seed, args.pairs, args.content, args.style)
-    row = run_bench(args.method, seed=args.seed, pairs=pairs, device=args.device, progress=not args.json)
+    evaluator = Evaluator()
+    rows = [run_bench(m, seed=args.seed, pairs=pairs, device=args.device, evaluator=evaluator,
+                      progress=not args.json) for m in methods]
     if args.json:
-        _print_json(row)
+        for row in rows:
+            _print_json(row)
     else:
-        print(format_table([row]))
+        print(format_table(rows, markdown=args.markdown))
     return 0
 
 
@@ -198,13 +202,14 @@ def build_parser() -> argparse.ArgumentParser:
     t.set_defaults(run=_train)
 
     be = sub.add_parser("bench", help="run a method over held-out pairs and score it")
-    be.add_argument("--method", required=True)
+    be.add_argument("--method", required=True, help="a method, several joined by commas, or 'all'")
     be.add_argument("--seed", type=int, default=0, help="which draw of pairs")
     be.add_argument("--pairs", type=int, default=200)
     be.add_argument("--content", default=None, metavar="DIR")
     be.add_argument("--style", default=None, metavar="DIR")
     be.add_argument("--device", default="cpu")
-    be.add_argument("--json", action="store_true")
+    be.add_argument("--json", action="store_true", help="one JSON line per method")
+    be.add_argument("--markdown", action="store_true", help="print a Markdown table (the README's)")
     be.set_defaults(run=_bench)
 
     tr = sub.add_parser("transfer", help="one content motion in one style, written as .bvh, .npy or .gif")

@@ -166,8 +166,9 @@ def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu
     return {k: row[k] for k in JSON_KEYS}
 
 
-def format_table(rows: list, notebook: bool = False) -> str:
-    """A plain-text table of bench rows; `notebook=True` rounds for nbval and leaves out timings."""
+def format_table(rows: list, notebook: bool = False, markdown: bool = False) -> str:
+    """A plain-text table of bench rows; `notebook=True` rounds for nbval and leaves out timings;
+    `markdown=True` gives a Markdown table (for the README)."""
     cols = ["method", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr", "diversity", "ms_per_clip"]
     fmt = {"method": "{:<12}", "fmd": "{:>8.2f}", "cra": "{:>6.1f}", "sra": "{:>6.1f}", "sra_top3": "{:>8.1f}",
            "h": "{:>6.3f}", "tsi": "{:>6.3f}", "fsf": "{:>6.2f}", "fsr": "{:>6.3f}", "diversity": "{:>9.2f}",
@@ -175,6 +176,9 @@ def format_table(rows: list, notebook: bool = False) -> str:
     if notebook:  # numbers stable run to run (3 significant digits), no machine-dependent timings
         cols.remove("ms_per_clip")
         fmt.update(fmd="{:>8.3g}", h="{:>6.2f}", tsi="{:>6.2f}", fsr="{:>6.2f}", diversity="{:>9.3g}")
+    if markdown:
+        lines = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
+        return "\n".join(lines + ["| " + " | ".join(fmt[c].format(r[c]).strip() for c in cols) + " |" for r in rows])
     head = " ".join(f"{c:>{len(fmt[c].format(0 if c != 'method' else ''))}}" for c in cols)
     return "\n".join([head] + [" ".join(fmt[c].format(r[c]) for c in cols) for r in rows])
 
