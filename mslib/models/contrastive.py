@@ -1,0 +1,413 @@
+"""Paper C: self-supervised contrastive disentanglement of content and style.
+
+E_c maps a motion to a content code h×t over time, E_s to a style vector; the generator G decodes
+a content code with AdaIN parameters predicted from a style code; an MLP discriminator judges
+realism. A training pair is a target M^T (content corpus) and a source M^S (style corpus), drawn at
+random and never labelled; M^G = G(E_c(M^T) | E_s(M^S)). Losses: C Eq. 1 reconstruction, C Eq. 2
+adversarial (non-saturating form), C Eq. 3 InfoNCE with a bilinear score on content codes,
+C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
+
+The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
+on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
+given `parameters=model.generator_parameters()`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass, fields, replace
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from torch import nn
+from torch.utils.data import Dataset
+
+from ..checkpoints import course_path, load_state
+from ..data.datasets import MotionFolder
+from ..motion.features import N_FEATURES, decode
+from ..training import TrainConfig, fit
+from .layers import ResBlock1d, adain
+
+NAME = "contrastive"
+
+
+@dataclass
+class ContrastiveConfig:
+    """Sizes, loss weights and optimisation of paper C; `paper` and `course` presets."""
+
+    feature_dim: int = N_FEATURES
+    hidden: int = 144          # content code channels h (C §4.1: 144×16 for 32 frames)
+    style_dim: int = 144       # style code length l (C §4.1: 144)
+    down: int = 2              # temporal stride of E_c: t = T / down
+    disc_hidden: int = 256
+    disc_window: int = 4       # the MLP discriminator scores windows of this many frames
+    disc_dims: tuple = (3, 67)  # … of these dims: root height + root-relative joints (what decode reads)
+    alpha: float = 1.0         # C Eq. 5: adversarial weight
+    beta: float = 0.3          # C Eq. 5: InfoNCE weight
+    gamma: float = 0.3         # C Eq. 5: triplet weight
+    margin: float = 1.0        # C Eq. 4: λ
+    keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
+    crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
+    d_lr: float = 1e-4         # the discriminator's own optimiser
+    steps: int = 200_000
+    batch_size: int = 16
+    lr: float = 1e-4
+    warmup_steps: int = 0
+
+    @classmethod
+    def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
+        """`paper` (C §4.1: batch 16, lr 1e-4, 200k iterations, 144-d codes) or `course` (CPU, minutes)."""
+        if name == "paper":
+            cfg = cls()
+        elif name == "course":
+            cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=2500, batch_size=32, lr=1e-3,
+                      d_lr=5e-4, warmup_steps=100)
+        else:
+            raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
+        known = {f.name for f in fields(cls)}
+        bad = sorted(set(overrides) - known)
+        if bad:
+            raise ValueError(f"overrides: unknown config fields {bad}")
+        return replace(cfg, **overrides)
+
+    def train_config(self, seed: int = 0) -> TrainConfig:
+        """The one loop's settings for this config."""
+        return TrainConfig(steps=self.steps, batch_size=self.batch_size, lr=self.lr, seed=seed,
+                           warmup_steps=self.warmup_steps, val_every=max(1, self.steps // 5), val_batches=2)
+
+
+# ---------------------------------------------------------------- networks
+def _conv(cin: int, cout: int, kernel: int = 3, stride: int = 1) -> nn.Conv1d:
+    return nn.Conv1d(cin, cout, kernel, stride=stride, padding=(kernel - stride + 1) // 2)
+
+
+class ContentEncoder(nn.Module):
+    """E_c: 3 Conv1d (the first strided) + 3 residual blocks, instance-normalised over time; (B, T, D) → (B, h, T/down)."""
+
+    def __init__(self, cfg: ContrastiveConfig):
+        super().__init__()
+        h = cfg.hidden
+        self.net = nn.Sequential(
+            _conv(cfg.feature_dim, h, 4 if cfg.down == 2 else 3, cfg.down), nn.LeakyReLU(0.2),
+            _conv(h, h), nn.LeakyReLU(0.2),
+            _conv(h, h), nn.InstanceNorm1d(h),
+            *[ResBlock1d(h) for _ in range(3)], nn.InstanceNorm1d(h))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.net(x.transpose(1, 2))  # (B, h, t)
+
+
+class StyleEncoder(nn.Module):
+    """E_s: 3 Conv1d (the first two strided) + 3 residual blocks, mean over time, linear; (B, T, D) → (B, l)."""
+
+    def __init__(self, cfg: ContrastiveConfig):
+        super().__init__()
+        h = cfg.hidden
+        self.net = nn.Sequential(
+            _conv(cfg.feature_dim, h, 4, 2), nn.LeakyReLU(0.2),
+            _conv(h, h, 4, 2), nn.LeakyReLU(0.2),
+            _conv(h, h), *[ResBlock1d(h) for _ in range(3)], nn.LeakyReLU(0.2))
+        self.out = nn.Linear(h, cfg.style_dim)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.out(self.net(x.transpose(1, 2)).mean(-1))  # (B, l)
+
+
+class AdaINResBlock(nn.Module):
+    """x + conv(act(AdaIN(conv(act(AdaIN(x, s₁))), s₂))), AdaIN parameters from the style code; (B, C, t)."""
+
+    def __init__(self, channels: int, style_dim: int):
+        super().__init__()
+        self.conv1, self.conv2 = _conv(channels, channels), _conv(channels, channels)
+        self.affine = nn.Linear(style_dim, 4 * channels)  # μ₁, σ₁, μ₂, σ₂
+
+    def forward(self, x: torch.Tensor, style: torch.Tensor) -> torch.Tensor:
+        mu1, s1, mu2, s2 = self.affine(style)[:, None].chunk(4, -1)  # (B, 1, C) each
+        h = adain(x.transpose(1, 2), mu1, 1 + s1).transpose(1, 2)   # A Eq. 2 with learned style stats
+        h = self.conv1(F.leaky_relu(h, 0.2))
+        h = adain(h.transpose(1, 2), mu2, 1 + s2).transpose(1, 2)
+        return x + self.conv2(F.leaky_relu(h, 0.2))
+
+
+class Generator(nn.Module):
+    """G: 4 AdaIN residual blocks, upsample back to T, a conv and a per-frame linear map to D; (B, h, t), (B, l), T → (B, T, D)."""
+
+    def __init__(self, cfg: ContrastiveConfig):
+        super().__init__()
+        h = cfg.hidden
+        self.style_mlp = nn.Sequential(nn.Linear(cfg.style_dim, h), nn.LeakyReLU(0.2), nn.Linear(h, h))
+        self.blocks = nn.ModuleList(AdaINResBlock(h, h) for _ in range(4))
+        self.head = nn.Sequential(_conv(h, h), nn.LeakyReLU(0.2), nn.Conv1d(h, cfg.feature_dim, 1))
+
+    def forward(self, content: torch.Tensor, style: torch.Tensor, length: int) -> torch.Tensor:
+        s = self.style_mlp(style)  # (B, h)
+        x = content
+        for block in self.blocks:
+            x = block(x, s)
+        x = F.interpolate(x, size=length, mode="linear", align_corners=False)  # (B, h, T)
+        return self.head(x).transpose(1, 2)  # (B, T, D)
+
+
+class Discriminator(nn.Module):
+    """MLP on windows of `disc_window` frames of dims `disc_dims`; (B, T, D) → (B, T // w) logits."""
+
+    def __init__(self, cfg: ContrastiveConfig):
+        super().__init__()
+        self.w, (self.lo, self.hi) = cfg.disc_window, cfg.disc_dims
+        self.mlp = nn.Sequential(nn.Linear((self.hi - self.lo) * self.w, cfg.disc_hidden), nn.LeakyReLU(0.2),
+                                 nn.Linear(cfg.disc_hidden, cfg.disc_hidden), nn.LeakyReLU(0.2),
+                                 nn.Linear(cfg.disc_hidden, 1))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        x = x[..., self.lo:self.hi]
+        B, T, D = x.shape
+        n = T // self.w
+        if n < 1:
+            raise ValueError(f"x: needs at least disc_window={self.w} frames, got {T}")
+        return self.mlp(x[:, :n * self.w].reshape(B, n, self.w * D)).squeeze(-1)
+
+
+# ---------------------------------------------------------------- losses
+def reconstruction_loss(recon: torch.Tensor, x: torch.Tensor) -> torch.Tensor:
+    """C Eq. 1 (one term): mean per-frame Euclidean distance, divided by √D so Eq. 5's weights act on O(1) terms."""
+    return ((recon - x).pow(2).mean(-1) + 1e-8).sqrt().mean()
+
+
+def adversarial_losses(d_real: torch.Tensor, d_fake: torch.Tensor) -> tuple:
+    """C Eq. 2 in its non-saturating form: (D loss, G loss) from logits.
+
+    D: −log σ(D(M^S)) − log(1 − σ(D(M^G))); G: −log σ(D(M^G)) (instead of log(1 − σ), which saturates)."""
+    d_loss = F.softplus(-d_real).mean() + F.softplus(d_fake).mean()
+    g_loss = F.softplus(-d_fake).mean()
+    return d_loss, g_loss
+
+
+def info_nce(query: torch.Tensor, keys: torch.Tensor, W: torch.Tensor) -> torch.Tensor:
+    """C Eq. 3 with f(q, k) = qᵀWk / √h: every time step i of `query` (B, h, t) is a query, step i of
+    `keys` (B, h, t) its positive, the other t − 1 steps of the same motion its negatives.
+
+    The positive is included in the softmax's denominator (the usual CPC form), so the loss is ≥ 0."""
+    if query.shape != keys.shape or query.dim() != 3:
+        raise ValueError(f"query/keys: need equal (B, h, t) shapes, got {tuple(query.shape)} and {tuple(keys.shape)}")
+    h = query.shape[1]
+    scores = torch.einsum("bhi,hg,bgj->bij", query, W, keys) / h ** 0.5  # (B, t, t): f(q_i, k_j)
+    target = torch.arange(scores.shape[-1], device=scores.device).expand(scores.shape[0], -1)  # (B, t)
+    return F.cross_entropy(scores.reshape(-1, scores.shape[-1]), target.reshape(-1))
+
+
+def triplet_loss(query: torch.Tensor, positive: torch.Tensor, negative: torch.Tensor,
+                 margin: float = 1.0) -> torch.Tensor:
+    """C Eq. 4: [‖q − k⁺‖ − ‖q − k⁻‖ + λ]₊ averaged over the batch; codes (B, l)."""
+    d_pos = (query - positive).norm(dim=-1)  # (B,)
+    d_neg = (query - negative).norm(dim=-1)
+    return F.relu(d_pos - d_neg + margin).mean()
+
+
+# ---------------------------------------------------------------- the model
+class ContrastiveModel(nn.Module):
+    """E_c, E_s, G, D and the bilinear W, with C's losses and the normaliser of the training data."""
+
+    def __init__(self, cfg: ContrastiveConfig | None = None, mean=None, std=None):
+        super().__init__()
+        self.cfg = cfg or ContrastiveConfig.preset("course")
+        self.config = asdict(self.cfg)
+        self.content_encoder = ContentEncoder(self.cfg)
+        self.style_encoder = StyleEncoder(self.cfg)
+        self.generator = Generator(self.cfg)
+        self.discriminator = Discriminator(self.cfg)
+        self.W = nn.Parameter(torch.eye(self.cfg.hidden))  # C Eq. 3: bilinear score qᵀWk
+        D = self.cfg.feature_dim
+        self.register_buffer("mean", torch.zeros(D) if mean is None else torch.as_tensor(mean, dtype=torch.float32))
+        self.register_buffer("std", torch.ones(D) if std is None else torch.as_tensor(std, dtype=torch.float32))
+        self._d_opt = None
+
+    # -- pieces
+    def generator_parameters(self) -> list:
+        """Everything but the discriminator (the one loop's optimiser)."""
+        return [p for n, p in self.named_parameters() if not n.startswith("discriminator.")]
+
+    def d_optimizer(self) -> torch.optim.Optimizer:
+        """The discriminator's own Adam (created on first use, on the model's device)."""
+        if self._d_opt is None:
+            self._d_opt = torch.optim.Adam(self.discriminator.parameters(), lr=self.cfg.d_lr, betas=(0.5, 0.999))
+        return self._d_opt
+
+    def normalize(self, x: torch.Tensor) -> torch.Tensor:
+        return (x - self.mean) / self.std
+
+    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
+        return x * self.std + self.mean
+
+    def encode_content(self, x: torch.Tensor) -> torch.Tensor:
+        """Normalised (B, T, D) → content code (B, h, t)."""
+        return self.content_encoder(x)
+
+    def encode_style(self, x: torch.Tensor) -> torch.Tensor:
+        """Normalised (B, T, D) → style code (B, l)."""
+        return self.style_encoder(x)
+
+    def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int) -> torch.Tensor:
+        """G(E_c(·) | E_s(·)) → normalised (B, length, D)."""
+        return self.generator(content_code, style_code, length)
+
+    def _check(self, x, name):
+        if x.dim() != 3 or x.shape[-1] != self.cfg.feature_dim:
+            raise ValueError(f"{name}: expected (B, T, {self.cfg.feature_dim}), got {tuple(x.shape)}")
+        if x.shape[1] < max(4, self.cfg.disc_window):
+            raise ValueError(f"{name}: needs at least {max(4, self.cfg.disc_window)} frames, got {x.shape[1]}")
+
+    # -- training
+    def losses(self, target: torch.Tensor, source: torch.Tensor) -> dict:
+        """Every term of C Eq. 1–5 for normalised target M^T and source M^S (B, T, D), without the D step."""
+        self._check(target, "target")
+        self._check(source, "source")
+        T = target.shape[1]
+        c_t, c_s = self.encode_content(target), self.encode_content(source)  # (B, h, t)
+        s_t, s_s = self.encode_style(target), self.encode_style(source)      # (B, l)
+        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1]), source)      # C Eq. 1
+               + reconstruction_loss(self.generate(c_t, s_t, T), target))
+        fake = self.generate(c_t, s_s, T)  # M^G = G(E_c(M^T) | E_s(M^S))
+        nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
+        tri = triplet_loss(self.encode_style(fake), s_s, s_t, self.cfg.margin)              # C Eq. 4
+        return {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
+
+    def training_step(self, batch: dict) -> dict:
+        target, source = batch["target"], batch["source"]
+        out = self.losses(target, source)
+        fake = out.pop("fake")
+        if self.cfg.alpha > 0:  # the discriminator's step, on detached M^G (its own optimiser)
+            opt = self.d_optimizer()
+            d_loss, _ = adversarial_losses(self.discriminator(source), self.discriminator(fake.detach()))
+            opt.zero_grad(set_to_none=True)
+            d_loss.backward()
+            opt.step()
+            g_adv = F.softplus(-self.discriminator(fake)).mean()  # C Eq. 2, non-saturating G term
+        else:
+            d_loss = g_adv = torch.zeros((), device=target.device)
+        c = self.cfg
+        loss = out["rec"] + c.alpha * g_adv + c.beta * out["nce"] + c.gamma * out["tri"]  # C Eq. 5
+        return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
+
+    def validation_step(self, batch: dict) -> dict:
+        out = self.losses(batch["target"], batch["source"])
+        out.pop("fake")
+        return {k: float(v) for k, v in out.items()}
+
+    # -- inference
+    @torch.no_grad()
+    def transfer_features(self, content: np.ndarray, style: np.ndarray) -> np.ndarray:
+        """Unnormalised (Tc, D) content and (Ts, D) style features → unnormalised (Tc, D) output;
+        the first `keep_root` dims (the root trajectory) are the content's own."""
+        dev = self.mean.device
+        c, s = (torch.as_tensor(np.asarray(a), dtype=torch.float32, device=dev)[None] for a in (content, style))
+        self._check(c, "content")
+        self._check(s, "style")
+        c, s = self.normalize(c), self.normalize(s)
+        out = self.denormalize(self.generate(self.encode_content(c), self.encode_style(s), c.shape[1]))[0]
+        out = out.cpu().numpy().astype(np.float64)
+        k = self.cfg.keep_root
+        out[:, :k] = np.asarray(content, np.float64)[:, :k]
+        return out
+
+    @torch.no_grad()
+    def style_codes(self, clips, batch_size: int = 64) -> np.ndarray:
+        """Style codes (N, l) of unnormalised (T, D) feature arrays (equal lengths within a batch)."""
+        self.eval()
+        codes = []
+        for i in range(0, len(clips), batch_size):
+            x = torch.as_tensor(np.stack(clips[i:i + batch_size]), dtype=torch.float32, device=self.mean.device)
+            codes.append(self.encode_style(self.normalize(x)).cpu().numpy())
+        return np.concatenate(codes, 0)
+
+
+# ---------------------------------------------------------------- data
+class PairedClips(Dataset):
+    """Random (target, source) pairs, unlabelled: item i = a `crop`-row window of content clip i and a
+    random style clip, both normalised with the content corpus's statistics.
+
+    exclude_styles: style-corpus styles to leave out (the unseen-style experiment, C Fig. 3)."""
+
+    def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
+                 exclude_styles=(), mean=None, std=None):
+        self.content = MotionFolder(content_folder, split, normalize=False, labels=())
+        style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
+        keep = [i for i, r in enumerate(style.rows) if r.get("style") not in set(exclude_styles)]
+        if not keep:
+            raise ValueError(f"exclude_styles: {list(exclude_styles)} leaves no style clips")
+        self.style, self.style_index = style, keep
+        self.crop = int(crop)
+        self.mean = self.content.mean if mean is None else np.asarray(mean, np.float32)
+        self.std = self.content.std if std is None else np.asarray(std, np.float32)
+
+    def __len__(self) -> int:
+        return len(self.content)
+
+    def _window(self, f: np.ndarray) -> np.ndarray:
+        if len(f) < self.crop:  # edge-pad short clips
+            return np.concatenate([f, np.repeat(f[-1:], self.crop - len(f), 0)])
+        s = np.random.randint(len(f) - self.crop + 1)
+        return f[s:s + self.crop]
+
+    def __getitem__(self, i: int) -> dict:
+        tgt = self._window(self.content._arrays(i)[0])
+        src = self._window(self.style._arrays(self.style_index[np.random.randint(len(self.style_index))])[0])
+        norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
+        return {"target": norm(tgt), "source": norm(src)}
+
+
+# ---------------------------------------------------------------- training and loading
+def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, device="cpu", resume=None,
+          progress: bool = True, exclude_styles=(), val: bool = True):
+    """Build the model and data, run the one loop; returns (model, history)."""
+    torch.manual_seed(seed)
+    data = PairedClips(content, style, "train", cfg.crop, exclude_styles)
+    model = ContrastiveModel(cfg, data.mean, data.std)
+    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles) if val else None
+    history = fit(model, data, cfg.train_config(seed), val_set=val_set, model_name=NAME, out=out,
+                  resume=resume, device=device, progress=progress, parameters=model.generator_parameters())
+    return model, history
+
+
+def load(path=None, device="cpu") -> ContrastiveModel:
+    """The model stored in a checkpoint (default: the packaged course one), in eval mode."""
+    from ..checkpoints import read_checkpoint
+    path = course_path(NAME) if path is None else path
+    blob = read_checkpoint(path, NAME)
+    model = ContrastiveModel(ContrastiveConfig(**blob["config"]))
+    load_state(path, model, NAME)
+    return model.to(device).eval()
+
+
+def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True):
+    """`python -m mslib train contrastive --preset course|paper`."""
+    cfg = ContrastiveConfig.preset(preset, **({"steps": int(steps)} if steps else {}))
+    out = out or course_path(NAME)
+    t0 = time.time()
+    model, history = train(cfg, content, style, seed, out, device, resume, progress)
+    tr = history["train"]
+    last = lambda k: round(float(np.mean(tr[k][-50:])), 4)  # noqa: E731
+    return {"model": NAME, "out": str(out), "steps": history["step"][-1], "seconds": round(time.time() - t0, 1),
+            "stopped": history["stopped"], "rec": last("rec"), "nce": last("nce"), "tri": last("tri"),
+            "adv": last("adv"), "d": last("d")}
+
+
+TRAINABLE = {NAME: run}
+
+
+def _register():
+    from importlib import import_module
+    try:
+        bench = import_module("mslib.evaluation.bench")  # registering only; the model never uses it
+    except ModuleNotFoundError:
+        return
+
+    @bench.register(NAME, "paper C: content code + AdaIN from a style code, InfoNCE + triplet, no labels")
+    def _factory(device="cpu"):
+        model = load(device=device)
+
+        def transfer(content, style):
+            return decode(model.transfer_features(content["features"], style["features"]))
+        return transfer
+
+
+_register()

@@ -1,0 +1,210 @@
+"""Paper C's findings, measured: style-code clusters with and without the contrastive terms (C Fig. 2),
+the β sweep (C Table 1), style interpolation (C Fig. 10–11) and an unseen style (C Fig. 3).
+
+Short runs are too slow for a notebook, so `python -m mslib.models.contrastive_analysis` trains them
+once and writes `mslib/checkpoints/contrastive_findings.json` (tables) and `.npz` (held-out style
+codes); notebook 03 loads both. Labels are used only to colour and score codes, never in training
+(the unseen-style run leaves the depressed clips out of its training data).
+
+Distances of the β sweep (our choice; C's network layers are not public, and models may not use the
+evaluator): on held-out (content, style) pairs, with x the normalised "ric" block (dims 4:67,
+root-relative joints) of a motion,
+    content distance = mean over frames of ‖x_out(t) − x_content(t)‖ / √63,
+    style distance   = ‖Gram(x_out) − Gram(x_style)‖_F / 63, Gram(x) = xᵀx / T   (Gatys et al.).
+Silhouettes and t-SNE come from scikit-learn (cosine-free, Euclidean on the style codes).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from ..checkpoints import PACKAGE_DIR
+from ..data.datasets import MotionFolder
+from ..fileio import atomic_write_bytes
+from ..motion.features import BLOCKS, decode
+from .contrastive import ContrastiveConfig, ContrastiveModel, train
+
+FINDINGS_JSON = PACKAGE_DIR / "contrastive_findings.json"
+FINDINGS_NPZ = PACKAGE_DIR / "contrastive_findings.npz"
+BETAS = (0.0, 0.3, 0.6, 1.0)
+UNSEEN = "depressed"
+
+
+# ---------------------------------------------------------------- held-out data
+def style_clips(style_folder, split: str = "test") -> tuple:
+    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels."""
+    ds = MotionFolder(style_folder, split, normalize=False, labels=("style",))
+    return [ds._arrays(i)[0] for i in range(len(ds))], np.array([r["style"] for r in ds.rows])
+
+
+def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, split: str = "val") -> list:
+    """n (content features, style features) pairs from a split (not the benchmark's test pairs)."""
+    content = MotionFolder(content_folder, split, normalize=False, labels=())
+    style = MotionFolder(style_folder, split, normalize=False, labels=())
+    rng = np.random.default_rng([seed, 303])
+    return [(content._arrays(int(rng.integers(len(content))))[0], style._arrays(int(rng.integers(len(style))))[0])
+            for _ in range(int(n))]
+
+
+# ---------------------------------------------------------------- measures
+def silhouette(codes: np.ndarray, labels) -> float:
+    """Mean silhouette of codes (N, l) grouped by label (scikit-learn, Euclidean)."""
+    from sklearn.metrics import silhouette_score
+    labels = np.asarray(labels)
+    if len(codes) != len(labels) or len(set(labels.tolist())) < 2:
+        raise ValueError("codes/labels: need one label per code and at least two labels")
+    return float(silhouette_score(codes, labels))
+
+
+def silhouette_per_label(codes: np.ndarray, labels) -> dict:
+    """Mean silhouette of each label's codes."""
+    from sklearn.metrics import silhouette_samples
+    labels = np.asarray(labels)
+    s = silhouette_samples(codes, labels)
+    return {str(k): float(s[labels == k].mean()) for k in sorted(set(labels.tolist()))}
+
+
+def nearest_neighbour_purity(codes: np.ndarray, labels, label: str) -> float:
+    """Fraction of `label`'s codes whose nearest other code (Euclidean) has the same label."""
+    labels = np.asarray(labels)
+    d = ((codes[:, None] - codes[None]) ** 2).sum(-1)
+    np.fill_diagonal(d, np.inf)
+    own = labels == label
+    return float((labels[d[own].argmin(1)] == label).mean())
+
+
+def tsne_2d(codes: np.ndarray, seed: int = 0) -> np.ndarray:
+    """Codes (N, l) → (N, 2) with scikit-learn's t-SNE (PCA initialisation, perplexity 30)."""
+    from sklearn.manifold import TSNE
+    return TSNE(2, perplexity=min(30.0, (len(codes) - 1) / 3), init="pca", random_state=seed).fit_transform(
+        np.asarray(codes, np.float64))
+
+
+def _ric(model: ContrastiveModel, f: np.ndarray) -> np.ndarray:
+    """The normalised ric block of unnormalised features (T, 263) → (T, 63)."""
+    sl = BLOCKS["ric"]
+    return (f[:, sl] - model.mean.cpu().numpy()[sl]) / model.std.cpu().numpy()[sl]
+
+
+def gram(x: np.ndarray) -> np.ndarray:
+    """Gram matrix xᵀx / T of (T, C) features → (C, C)."""
+    return x.T @ x / len(x)
+
+
+def transfer_distances(model: ContrastiveModel, pairs) -> dict:
+    """Mean content and style distance (module docstring) of the model's outputs on (content, style) pairs."""
+    dc, ds = [], []
+    for content, style in pairs:
+        out = model.transfer_features(content, style)
+        xo, xc, xs = _ric(model, out), _ric(model, content), _ric(model, style)
+        C = xo.shape[1]
+        dc.append(np.linalg.norm(xo - xc, axis=1).mean() / np.sqrt(C))
+        ds.append(np.linalg.norm(gram(xo) - gram(xs)) / C)
+    return {"content_distance": float(np.mean(dc)), "style_distance": float(np.mean(ds))}
+
+
+# ---------------------------------------------------------------- interpolation
+@torch.no_grad()
+def interpolate_styles(model: ContrastiveModel, content: np.ndarray, style_a: np.ndarray, style_b: np.ndarray,
+                       weights=(0.0, 0.3, 0.6, 1.0)) -> list:
+    """C Fig. 10–11: decode one content with (1 − w)·E_s(a) + w·E_s(b) → list of (T, 22, 3) positions."""
+    dev = model.mean.device
+    t = lambda a: model.normalize(torch.as_tensor(np.asarray(a), dtype=torch.float32, device=dev))[None]  # noqa: E731
+    c = t(content)
+    code_c = model.encode_content(c)
+    sa, sb = model.encode_style(t(style_a)), model.encode_style(t(style_b))
+    k = model.cfg.keep_root
+    out = []
+    for w in weights:
+        f = model.denormalize(model.generate(code_c, (1 - w) * sa + w * sb, c.shape[1]))[0].cpu().numpy()
+        f = f.astype(np.float64)
+        f[:, :k] = np.asarray(content, np.float64)[:, :k]
+        out.append(decode(f))
+    return out
+
+
+# ---------------------------------------------------------------- the short runs
+def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_styles=(), **overrides):
+    """A course-sized model trained for `steps` (no validation, no checkpoint)."""
+    cfg = ContrastiveConfig.preset("course", steps=int(steps), **overrides)
+    model, history = train(cfg, content_folder, style_folder, seed, progress=False,
+                           exclude_styles=exclude_styles, val=False)
+    return model.eval(), history
+
+
+def run_findings(content_folder, style_folder, steps: int = 400, seed: int = 0, n_pairs: int = 64,
+                 progress: bool = True) -> tuple:
+    """Train the short runs and measure (a), (b), (d); returns (JSON-able results, arrays for the npz)."""
+    clips, labels = style_clips(style_folder, "test")
+    pairs = held_out_pairs(content_folder, style_folder, n_pairs, seed)
+    say = print if progress else (lambda *a, **k: None)
+    results = {"steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs), "betas": list(BETAS),
+               "sweep": [], "unseen_style": UNSEEN}
+    arrays = {"labels": labels}
+    t0 = time.time()
+    for beta in BETAS:  # (b) C Table 1, γ = 0.3; β = 0.3 is also (a)'s "with"
+        model, _ = short_run(content_folder, style_folder, steps, seed, beta=beta)
+        row = {"beta": beta, **transfer_distances(model, pairs)}
+        codes = model.style_codes(clips)
+        row["silhouette"] = silhouette(codes, labels)
+        results["sweep"].append(row)
+        if beta == 0.3:
+            arrays["codes_with"] = codes.astype(np.float32)
+        say(f"β={beta}: {row} ({time.time() - t0:.0f} s)")
+    model, _ = short_run(content_folder, style_folder, steps, seed, beta=0.0, gamma=0.0)  # (a) "without"
+    arrays["codes_without"] = model.style_codes(clips).astype(np.float32)
+    results["silhouette_with"] = silhouette(arrays["codes_with"], labels)
+    results["silhouette_without"] = silhouette(arrays["codes_without"], labels)
+    say(f"without contrastive terms: silhouette {results['silhouette_without']:.3f} ({time.time() - t0:.0f} s)")
+    model, _ = short_run(content_folder, style_folder, steps, seed, exclude_styles=(UNSEEN,))  # (d)
+    codes = model.style_codes(clips)
+    arrays["codes_unseen"] = codes.astype(np.float32)
+    per = silhouette_per_label(codes, labels)
+    results["unseen"] = {"silhouette": silhouette(codes, labels), "per_style": per,
+                         "unseen_silhouette": per[UNSEEN],
+                         "unseen_nn_purity": nearest_neighbour_purity(codes, labels, UNSEEN),
+                         "chance_nn_purity": float((labels == UNSEEN).mean())}
+    results["seconds"] = round(time.time() - t0, 1)
+    say(f"unseen {UNSEEN}: {results['unseen']} ({results['seconds']} s)")
+    return results, arrays
+
+
+def save_findings(results: dict, arrays: dict, json_path=FINDINGS_JSON, npz_path=FINDINGS_NPZ) -> None:
+    """Write the tables (JSON) and the codes (npz)."""
+    atomic_write_bytes(Path(json_path), (json.dumps(results, indent=1, sort_keys=True) + "\n").encode())
+    np.savez_compressed(npz_path, **arrays)
+
+
+def load_findings(json_path=FINDINGS_JSON, npz_path=FINDINGS_NPZ) -> tuple:
+    """The stored results and codes; a clear message names the command when they are missing."""
+    if not Path(json_path).is_file() or not Path(npz_path).is_file():
+        raise ValueError(f"{json_path}: no stored findings; make them with "
+                         "`python -m mslib.models.contrastive_analysis`")
+    with np.load(npz_path) as z:
+        arrays = {k: z[k] for k in z.files}
+    return json.loads(Path(json_path).read_text()), arrays
+
+
+def main(argv=None) -> int:
+    """`python -m mslib.models.contrastive_analysis [--steps N] [--seed S]`: the short runs → findings files."""
+    p = argparse.ArgumentParser(prog="python -m mslib.models.contrastive_analysis", description=main.__doc__)
+    p.add_argument("--steps", type=int, default=400)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--pairs", type=int, default=64)
+    p.add_argument("--json-out", default=str(FINDINGS_JSON))
+    p.add_argument("--npz-out", default=str(FINDINGS_NPZ))
+    args = p.parse_args(argv)
+    from ..data.corpora import load_builtin
+    paths = load_builtin(progress=False)
+    results, arrays = run_findings(paths["content"], paths["style"], args.steps, args.seed, args.pairs)
+    save_findings(results, arrays, args.json_out, args.npz_out)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,175 @@
+"""Paper C: losses against known answers, shapes, the discriminator's own step, a tiny training run,
+the packaged checkpoint and the bench entry, and the findings' measures."""
+import math
+
+import numpy as np
+import pytest
+import torch
+from torch.utils.data import Dataset
+
+from mslib.checkpoints import course_path
+from mslib.models import contrastive as C
+from mslib.models import contrastive_analysis as CA
+from mslib.training import fit
+
+
+def tiny(**kw):
+    return C.ContrastiveConfig.preset("course", hidden=16, style_dim=8, disc_hidden=16, **kw)
+
+
+# ---------------------------------------------------------------- losses
+def test_info_nce_known_answers():
+    torch.manual_seed(0)
+    W = torch.eye(8)
+    same = torch.zeros(2, 8, 5)  # every key scores the same: log t
+    assert C.info_nce(same, same, W).item() == pytest.approx(math.log(5), abs=1e-6)
+    q = 10 * torch.eye(8)[:, :5].expand(3, -1, -1).contiguous()  # orthogonal steps, positive = query
+    assert C.info_nce(q, q, W).item() < 1e-3
+    shuffled = q[:, :, [1, 2, 3, 4, 0]]  # the positive at step i is another step's vector
+    assert C.info_nce(q, shuffled, W).item() > 5
+    k = torch.randn(4, 8, 6)
+    assert C.info_nce(k + 0.1 * torch.randn_like(k), k, W) < C.info_nce(torch.randn_like(k), k, W)
+
+
+def test_info_nce_rejects_bad_shapes():
+    with pytest.raises(ValueError, match="query/keys"):
+        C.info_nce(torch.zeros(2, 8, 5), torch.zeros(2, 8, 4), torch.eye(8))
+
+
+def test_triplet_known_answers():
+    q = torch.zeros(2, 3)
+    far = torch.tensor([[2.0, 0, 0], [0, 0, 3.0]])
+    assert C.triplet_loss(q, q, far, 1.0).item() == 0.0  # margin satisfied
+    near = torch.tensor([[0.5, 0, 0], [0, 0.5, 0]])
+    assert C.triplet_loss(q, q, near, 1.0).item() == pytest.approx(0.5)
+    assert C.triplet_loss(q, near, q, 1.0).item() == pytest.approx(1.5)
+
+
+def test_adversarial_and_reconstruction_known_answers():
+    d, g = C.adversarial_losses(torch.zeros(4, 3), torch.zeros(4, 3))
+    assert d.item() == pytest.approx(2 * math.log(2)) and g.item() == pytest.approx(math.log(2))
+    x = torch.zeros(2, 5, 4)
+    assert C.reconstruction_loss(x + 3.0, x).item() == pytest.approx(3.0, rel=1e-5)
+
+
+# ---------------------------------------------------------------- the model
+def test_shapes_and_keep_root():
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny()).eval()
+    x = torch.randn(3, 31, 263)
+    assert m.encode_content(x).shape == (3, 16, 15)   # h × t, t = T // 2
+    assert m.encode_style(x).shape == (3, 8)
+    assert m.generate(m.encode_content(x), m.encode_style(x), 31).shape == (3, 31, 263)
+    assert m.discriminator(x).shape == (3, 7)
+    content, style = np.random.default_rng(0).normal(size=(50, 263)), np.random.default_rng(1).normal(size=(31, 263))
+    out = m.transfer_features(content, style)
+    assert out.shape == (50, 263) and np.array_equal(out[:, :3], content[:, :3])
+    assert not np.allclose(out[:, 3:], content[:, 3:])
+    with pytest.raises(ValueError, match="content"):
+        m.transfer_features(content[:, :100], style)
+    with pytest.raises(ValueError, match="preset"):
+        C.ContrastiveConfig.preset("huge")
+    with pytest.raises(ValueError, match="unknown config"):
+        C.ContrastiveConfig.preset("course", widht=3)
+
+
+def test_discriminator_has_its_own_optimiser():
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny())
+    assert not any(p is q for p in m.generator_parameters() for q in m.discriminator.parameters())
+    before = [p.detach().clone() for p in m.discriminator.parameters()]
+    logs = m.training_step({"target": torch.randn(4, 31, 263), "source": torch.randn(4, 31, 263)})
+    assert set(logs) >= {"loss", "rec", "adv", "nce", "tri", "d"}
+    assert all(not torch.equal(a, b) for a, b in zip(before, m.discriminator.parameters()))
+    c = m.cfg  # C Eq. 5
+    total = logs["rec"] + c.alpha * logs["adv"] + c.beta * logs["nce"] + c.gamma * logs["tri"]
+    assert logs["loss"].item() == pytest.approx(total.item(), rel=1e-5)
+
+
+class Smooth(Dataset):
+    """Random smooth (target, source) pairs: one sine per channel, each clip with its own time shift."""
+
+    def __init__(self, n=64):
+        g = torch.Generator().manual_seed(0)
+        phase = 6 * torch.rand(1, 263, generator=g)
+        t = torch.arange(31.0)[:, None]
+        self.items = [{k: torch.sin(0.3 * (t + 20 * torch.rand(1, generator=g)) + phase)
+                       for k in ("target", "source")} for _ in range(n)]
+
+    def __len__(self):
+        return len(self.items)
+
+    def __getitem__(self, i):
+        return self.items[i]
+
+
+def test_tiny_training_run_lowers_the_loss():
+    torch.manual_seed(0)
+    cfg = tiny(steps=60, batch_size=8, lr=3e-3, warmup_steps=0)
+    m = C.ContrastiveModel(cfg)
+    h = fit(m, Smooth(), cfg.train_config(0), model_name="contrastive", progress=False,
+            parameters=m.generator_parameters())
+    rec = h["train"]["rec"]
+    assert np.mean(rec[-10:]) < 0.7 * np.mean(rec[:5])
+    assert np.mean(h["train"]["nce"][-10:]) < np.mean(h["train"]["nce"][:5])
+
+
+def test_paired_clips_leave_a_style_out():
+    from mslib.data.corpora import load_builtin
+    builtin = load_builtin(progress=False)
+    ds = C.PairedClips(builtin["content"], builtin["style"], "val", exclude_styles=("depressed",))
+    assert all(ds.style.rows[i]["style"] != "depressed" for i in ds.style_index)
+    item = ds[0]
+    assert item["target"].shape == (31, 263) and item["source"].shape == (31, 263)
+    with pytest.raises(ValueError, match="exclude_styles"):
+        C.PairedClips(builtin["content"], builtin["style"], "val",
+                      exclude_styles=("neutral", "angry", "childlike", "depressed", "old", "proud", "sexy", "strutting"))
+
+
+# ---------------------------------------------------------------- the packaged checkpoint and bench
+needs_ckpt = pytest.mark.skipif(not course_path("contrastive").is_file(), reason="no course checkpoint")
+
+
+@needs_ckpt
+def test_course_checkpoint_loads_and_bench_transfer_gives_positions():
+    from mslib.evaluation import bench
+    m = C.load()
+    assert m.config == {**C.ContrastiveConfig.preset("course").__dict__}
+    content, style = bench.load_pairs(seed=0, n_pairs=1)[0]
+    out = bench.get_method("contrastive")(content, style)
+    assert out.shape == (len(content["features"]), 22, 3) and np.isfinite(out).all()
+    # the root trajectory is the content's: same root path as decoding the content
+    from mslib.motion.features import decode
+    np.testing.assert_allclose(out[:, 0, [0, 2]], decode(content["features"])[:, 0, [0, 2]], atol=1e-5)
+
+
+# ---------------------------------------------------------------- findings' measures
+def test_silhouette_purity_and_gram_known_answers():
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(size=(20, 4)) * 0.01, rng.normal(size=(20, 4)) * 0.01 + 5
+    codes, labels = np.concatenate([a, b]), np.array(["x"] * 20 + ["y"] * 20)
+    assert CA.silhouette(codes, labels) > 0.99
+    assert CA.nearest_neighbour_purity(codes, labels, "x") == 1.0
+    mixed = rng.normal(size=(40, 4))
+    assert abs(CA.silhouette(mixed, labels)) < 0.1
+    x = rng.normal(size=(10, 3))
+    np.testing.assert_allclose(CA.gram(x), x.T @ x / 10)
+    with pytest.raises(ValueError, match="labels"):
+        CA.silhouette(codes, ["x"] * 40)
+
+
+def test_interpolation_ends_match_transfer():
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny()).eval()
+    rng = np.random.default_rng(0)
+    content, sa, sb = rng.normal(size=(40, 263)), rng.normal(size=(31, 263)), rng.normal(size=(31, 263))
+    strip = CA.interpolate_styles(m, content, sa, sb, (0.0, 0.5, 1.0))
+    assert len(strip) == 3 and strip[0].shape == (40, 22, 3)
+    from mslib.motion.features import decode
+    np.testing.assert_allclose(strip[0], decode(m.transfer_features(content, sa)), atol=1e-4)
+    np.testing.assert_allclose(strip[-1], decode(m.transfer_features(content, sb)), atol=1e-4)
+
+
+def test_missing_findings_name_the_command(tmp_path):
+    with pytest.raises(ValueError, match="contrastive_analysis"):
+        CA.load_findings(tmp_path / "none.json", tmp_path / "none.npz")
