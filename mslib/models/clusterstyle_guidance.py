@@ -1,0 +1,226 @@
+"""Paper D inference: three-way classifier-free guidance (D App. A.1), prototype guidance (D Eq. 9,
+App. B), stylized generation, SDEdit style transfer (D App. C) and the prototype variants of D Fig. 5.
+
+    pipe = load_pipeline(device="cpu")            # the course VAE + ClusterStyle checkpoints
+    raw = pipe.transfer(content_raw, style_raw, caption=None, t0=600)     # (T−1, 263) unnormalised
+    raw = pipe.generate("a person walks forward", style_raw, length=63, seed=0)
+    raws = pipe.variants(content_raw, style_raw, kind="global")           # one output per global prototype
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+
+from ..motion.features import decode
+from .clusterstyle import MAX_STYLE_ROWS, ClusterStyle, null_text
+from .diffusion import ddim_sample
+
+
+class Pipeline:
+    """A trained ClusterStyle (text encoder inside) with its frozen VAE, for sampling."""
+
+    def __init__(self, model: ClusterStyle, vae, device="cpu"):
+        self.device = torch.device(device)
+        self.model, self.vae = model.to(self.device).eval(), vae.to(self.device).eval()
+        self.cfg = model.cfg
+
+    # ---------------------------------------------------------------- conditions
+    def normalize(self, raw) -> torch.Tensor:
+        """Unnormalised (T, 263) → normalised (T, 263) tensor with the VAE's statistics."""
+        x = torch.as_tensor(np.asarray(raw), dtype=torch.float32, device=self.device)
+        if x.ndim != 2 or x.shape[1] != 263:
+            raise ValueError(f"features: expected (T, 263), got shape {tuple(x.shape)}")
+        return self.vae.normalize(x)
+
+    @torch.no_grad()
+    def style_tokens(self, style_raw) -> torch.Tensor:
+        """[global; local] style features of a reference motion, (1, 1 + W, Ds) (D §3.3)."""
+        return self.model.style.style_tokens(self.normalize(style_raw)[None, :MAX_STYLE_ROWS])
+
+    @torch.no_grad()
+    def text_tokens(self, caption: str | None) -> tuple:
+        """Caption tokens (1, L, Dt) and padding (1, L); None → the null text (one zero token)."""
+        tokens, pad = self.model.text_tokens(["" if caption is None else caption])
+        if caption is None:
+            return null_text(tokens, pad, torch.zeros(1, dtype=torch.bool, device=self.device))
+        return tokens, pad
+
+    @torch.no_grad()
+    def style_of(self, tokens: torch.Tensor) -> int:
+        """The style a reference belongs to: the style of its nearest global prototype (no labels)."""
+        protos = self.model.style.global_bank.prototypes  # (C, K, D)
+        return int(torch.einsum("d,ckd->ck", tokens[0, 0], protos).amax(1).argmax())
+
+    def prototype_tokens(self, tokens: torch.Tensor, global_k: int | None = None, local_perm=None,
+                         style: int | None = None) -> torch.Tensor:
+        """Style tokens with the global feature replaced by global prototype k and/or the local ones by
+        the local prototypes in `local_perm` order (D §4.4, Fig. 5)."""
+        bank = self.model.style
+        c = self.style_of(tokens) if style is None else int(style)
+        out = tokens.clone()
+        if global_k is not None:
+            out[0, 0] = bank.global_bank.prototypes[c, int(global_k)]
+        if local_perm is not None:
+            for j in range(1, out.shape[1]):
+                out[0, j] = bank.local_bank.prototypes[c, int(local_perm[(j - 1) % len(local_perm)])]
+        return out
+
+    # ---------------------------------------------------------------- the guided noise prediction
+    def eps_fn(self, text, text_pad, style, n_rows: int, target=None, cfg_text=None, cfg_style=None,
+               weight=None, below=None):
+        """ε̃(z_t, t): three-way CFG, then prototype/reference guidance for t < `below` (D Eq. 9, 15).
+
+        CFG (SMooDi's form): ε = ε(∅,∅) + s_t·(ε(c,∅) − ε(∅,∅)) + s_s·(ε(c,s) − ε(c,∅)).
+        target: None, or ("global", (D,) unit vector), or ("local", (W, D) unit vectors)."""
+        st = self.cfg.cfg_text if cfg_text is None else cfg_text
+        ss = self.cfg.cfg_style if cfg_style is None else cfg_style
+        w = self.cfg.guide_weight if weight is None else weight
+        below = self.cfg.guide_below if below is None else below
+        den, sched = self.model.denoiser, self.model.sched
+        null_tx, null_pad = null_text(text, text_pad, torch.zeros(1, dtype=torch.bool, device=self.device))
+        texts = torch.cat([null_tx, text, text])
+        pads = torch.cat([null_pad, text_pad, text_pad])
+        styles = style.expand(3, -1, -1)
+        keep = torch.tensor([0.0, 0.0, 1.0], device=self.device)
+
+        def fn(z_t, t):
+            e = den(z_t.expand(3, -1, -1), t.expand(3), texts, pads, styles, None, keep)
+            eps = e[0:1] + st * (e[1:2] - e[0:1]) + ss * (e[2:3] - e[1:2])
+            if target is not None and w > 0 and int(t[0]) < below:
+                eps = eps - w * (1 - float(sched.alphas_cumprod[int(t[0])])) ** 0.5 * self.guidance_grad(
+                    z_t, t, eps, n_rows, target)  # D Eq. 15: move ε̂ along ∇ cos(f(x̂₀), target)
+            return eps
+        return fn
+
+    def guidance_grad(self, z_t, t, eps, n_rows: int, target) -> torch.Tensor:
+        """∇_{z_t} of D Eq. 9 / 16 / 17: cos(f(D(x̂₀)), target), with ε̂ held fixed (x̂₀ from D Eq. 13)."""
+        with torch.enable_grad():
+            z = z_t.detach().requires_grad_(True)
+            x0 = self.model.sched.predict_x0(z, t, eps.detach())  # D Eq. 13
+            motion = self.vae.decode(x0, [n_rows])[:, :MAX_STYLE_ROWS]  # (1, ≤64, 263) normalised
+            g, loc = self.model.style.features(motion)
+            kind, tgt = target
+            if kind == "global":
+                score = F.cosine_similarity(g[0], tgt, dim=0)  # D Eq. 16
+            else:
+                n = min(len(tgt), loc.shape[1])
+                score = F.cosine_similarity(loc[0, :n], tgt[:n], dim=1).mean()  # D Eq. 17
+            (grad,) = torch.autograd.grad(score, z)
+        return grad
+
+    # ---------------------------------------------------------------- sampling
+    def _sample(self, z_start, t_start, text, text_pad, style, n_rows, target, seed, **kw) -> np.ndarray:
+        gen = torch.Generator().manual_seed(int(seed))
+        if z_start is None:  # generation: pure noise
+            shape = (1, self.model.config["latent_tokens"], self.model.config["latent_dim"])
+            z_start = torch.randn(shape, generator=gen).to(self.device)
+        else:  # SDEdit: q(z_{t₀} | z₀)
+            noise = torch.randn(z_start.shape, generator=gen).to(z_start)
+            z_start = self.model.sched.q_sample(z_start, torch.full((1,), int(t_start), dtype=torch.long), noise)
+        fn = self.eps_fn(text, text_pad, style, n_rows, target, **kw)
+        z0 = ddim_sample(fn, z_start, self.model.sched, n_steps=self.cfg.ddim_steps, t_start=t_start, generator=gen)
+        with torch.no_grad():
+            x = self.vae.denormalize(self.vae.decode(z0, [n_rows]))[0]
+        return x.double().cpu().numpy()
+
+    def _target(self, guide, style_tokens):
+        """Guidance target from a spec: "reference", None, ("global", k) or ("local", permutation)."""
+        if guide is None:
+            return None
+        if guide == "reference":
+            return ("global", style_tokens[0, 0])
+        kind, arg = guide
+        c = self.style_of(style_tokens)
+        if kind == "global":
+            return ("global", self.model.style.global_bank.prototypes[c, int(arg)])
+        if kind == "local":
+            return ("local", self.model.style.local_bank.prototypes[c, torch.as_tensor(list(arg))])
+        raise ValueError(f"guide: expected None, 'reference', ('global', k) or ('local', perm), got {guide!r}")
+
+    def transfer(self, content_raw, style_raw, caption: str | None = None, t0: int | None = None,
+                 guide="reference", seed: int = 0, style_tokens=None, **kw) -> np.ndarray:
+        """SDEdit transfer (D App. C): encode the content, noise to t₀, denoise with the style → (T−1, 263)."""
+        x = self.normalize(content_raw)[: self.vae.cfg.max_len]
+        t0 = self.cfg.t0 if t0 is None else int(t0)
+        if not 0 <= t0 < self.model.sched.steps:
+            raise ValueError(f"t0: must lie in [0, {self.model.sched.steps}), got {t0}")
+        with torch.no_grad():
+            z_c = self.vae.encode(x[None])  # (1, N, d)
+        s = self.style_tokens(style_raw) if style_tokens is None else style_tokens
+        text, pad = self.text_tokens(caption)
+        return self._sample(z_c, t0, text, pad, s, len(x), self._target(guide, s), seed, **kw)
+
+    def generate(self, caption: str | None, style_raw, length: int = 63, guide="reference", seed: int = 0,
+                 style_tokens=None, **kw) -> np.ndarray:
+        """Stylized generation from (caption, style motion) (D §4.2): pure noise → (length, 263)."""
+        if not 1 <= int(length) <= self.vae.cfg.max_len:
+            raise ValueError(f"length: must lie in [1, {self.vae.cfg.max_len}], got {length}")
+        s = self.style_tokens(style_raw) if style_tokens is None else style_tokens
+        text, pad = self.text_tokens(caption)
+        return self._sample(None, None, text, pad, s, int(length), self._target(guide, s), seed, **kw)
+
+    def variants(self, content_raw, style_raw, kind: str = "global", caption=None, seed: int = 0,
+                 n: int | None = None, mode: str = "transfer", length: int = 63, **kw) -> list:
+        """D Fig. 5: one output per global prototype (kind="global") or per permutation of local
+        prototypes (kind="local"), each used as the style feature and as the guidance target."""
+        s = self.style_tokens(style_raw)
+        cfg = self.model.style_cfg
+        if kind == "global":
+            specs = [(self.prototype_tokens(s, global_k=k), ("global", k)) for k in range(cfg.k_global)]
+        elif kind == "local":  # random permutations of the style's local prototypes, one per segment
+            rng = np.random.default_rng(seed)
+            perms = [rng.permutation(cfg.k_local)[: s.shape[1] - 1].tolist() for _ in range(n or cfg.k_global)]
+            specs = [(self.prototype_tokens(s, local_perm=p), ("local", p)) for p in perms]
+        else:
+            raise ValueError(f"kind: expected 'global' or 'local', got {kind!r}")
+        out = []
+        for tokens, guide in specs[: n or len(specs)]:
+            if mode == "transfer":
+                out.append(self.transfer(content_raw, style_raw, caption, guide=guide, seed=seed, style_tokens=tokens, **kw))
+            else:
+                out.append(self.generate(caption, style_raw, length, guide=guide, seed=seed, style_tokens=tokens, **kw))
+        return out
+
+    def seed_variants(self, content_raw, style_raw, seeds=(0, 1, 2), caption=None, mode: str = "transfer",
+                      length: int = 63, **kw) -> list:
+        """The same reference style feature (and guidance) with different seeds — D Fig. 5's baseline."""
+        if mode == "transfer":
+            return [self.transfer(content_raw, style_raw, caption, seed=s, **kw) for s in seeds]
+        return [self.generate(caption, style_raw, length, seed=s, **kw) for s in seeds]
+
+
+def pose_diversity(features_list: list) -> float:
+    """Mean over pairs of outputs of their mean root-relative joint distance (cm) — how different they look."""
+    if len(features_list) < 2:
+        raise ValueError("features_list: need at least two motions")
+    poses = []
+    for f in features_list:
+        p = decode(np.asarray(f, np.float64))
+        poses.append(p - p[:, :1])  # root-relative positions (T, 22, 3)
+    n = min(len(p) for p in poses)
+    d = [np.linalg.norm(a[:n] - b[:n], axis=-1).mean() for a, b in itertools.combinations(poses, 2)]
+    return float(100 * np.mean(d))
+
+
+# ---------------------------------------------------------------- loading and the bench entry
+def load_pipeline(device="cpu", path=None, vae_path=None) -> Pipeline:
+    """The packaged course ClusterStyle (with its text encoder) and the course VAE."""
+    from .clusterstyle import load_clusterstyle
+    from .vae import load_vae
+    return Pipeline(load_clusterstyle(path, device), load_vae(vae_path, device), device)
+
+
+from ..evaluation.bench import register  # noqa: E402  (the registry only; never the evaluator)
+
+
+@register("clusterstyle", "D: SDEdit transfer (t0=600, 20 DDIM steps), 3-way CFG, reference-feature guidance")
+def _bench_factory(device="cpu"):
+    pipe = load_pipeline(device)
+
+    def transfer(content: dict, style: dict) -> np.ndarray:
+        raw = pipe.transfer(content["features"], style["features"], caption=content.get("caption") or None, seed=0)
+        return decode(raw)
+    return transfer

@@ -1,0 +1,160 @@
+"""Paper D's ClusterStyle: the SMA (D Eq. 11), stage freezing, captions, CFG/guidance and SDEdit sampling."""
+import numpy as np
+import pytest
+import torch
+
+from mslib.checkpoints import course_path
+from mslib.models.clusterstyle import (SMA, ClusterStyle, ClusterStyleConfig, content_caption, null_text)
+from mslib.models.clusterstyle_guidance import Pipeline, pose_diversity
+from mslib.models.prototypes import PrototypeConfig
+from mslib.models.vae import MotionVAE, VAEConfig
+from mslib.motion.features import encode
+
+VOCAB = ["<pad>", "<unk>", "a", "forward", "person", "walks"]
+
+
+def tiny(stage="sma", seed=0):
+    torch.manual_seed(seed)
+    cfg = ClusterStyleConfig.course(dim=16, layers=1, heads=2, ddim_steps=4)
+    pcfg = PrototypeConfig.course(dim=8, layers=1, heads=2, window=4)
+    return ClusterStyle(cfg, pcfg, latent_tokens=2, latent_dim=4, vocab=VOCAB, stage=stage)
+
+
+def tiny_pipeline(seed=0):
+    torch.manual_seed(seed)
+    vae = MotionVAE(VAEConfig(latent_tokens=2, latent_dim=4, dim=16, heads=2, layers=1, ff_mult=2, dropout=0.0))
+    return Pipeline(tiny(seed=seed), vae)
+
+
+def walk_features(n_frames=30):
+    t = np.linspace(0, 1, n_frames)
+    pos = np.zeros((n_frames, 22, 3))
+    pos[:, :, 1] = np.linspace(0, 1.6, 22)[None]
+    pos[:, :, 2] = 0.8 * t[:, None]
+    pos[:, 20, 0] = 0.3 * np.sin(6 * t)  # a moving wrist
+    return encode(pos)
+
+
+def test_sma_is_text_plus_lambda_times_style():
+    torch.manual_seed(0)
+    sma = SMA(8, 2, lambda_init=1.0)
+    torch.nn.init.normal_(sma.style_attn.out_proj.weight)
+    h, text, style = torch.randn(2, 3, 8), torch.randn(2, 4, 8), torch.randn(2, 5, 8)
+    tp, sp = torch.zeros(2, 4, dtype=torch.bool), torch.zeros(2, 5, dtype=torch.bool)
+    text_only = sma(h, text, tp)
+    style_only = sma.style_attn(h, style, style, need_weights=False)[0]
+    with torch.no_grad():
+        sma.lam.fill_(2.5)
+    assert torch.allclose(sma(h, text, tp, style, sp), text_only + 2.5 * style_only, atol=1e-5)
+    keep = torch.tensor([1.0, 0.0])  # a dropped style silences the branch for that row only
+    out = sma(h, text, tp, style, sp, keep)
+    assert torch.allclose(out[1], text_only[1], atol=1e-6) and not torch.allclose(out[0], text_only[0])
+
+
+def test_fresh_adapter_is_a_no_op():
+    sma = SMA(8, 2)  # zero-initialised style output: the pre-trained model is unchanged at the start
+    h, text, style = torch.randn(1, 3, 8), torch.randn(1, 2, 8), torch.randn(1, 4, 8)
+    pad = torch.zeros(1, 2, dtype=torch.bool)
+    assert torch.allclose(sma(h, text, pad, style, torch.zeros(1, 4, dtype=torch.bool)), sma(h, text, pad))
+
+
+def test_captions_lose_their_style_words():
+    assert content_caption("an old person walks forward slowly") == "a person walks forward slowly"
+    assert content_caption("a person kicks with the left leg in a neutral style") == "a person kicks with the left leg"
+    assert content_caption("a person waves with the right hand") == "a person waves with the right hand"
+
+
+def test_null_text_keeps_one_zero_token():
+    text, pad = torch.ones(3, 4, 2), torch.tensor([[False, False, True, True]] * 3)
+    t, p = null_text(text, pad, torch.tensor([True, False, True]))
+    assert torch.equal(t[0], text[0]) and (t[1] == 0).all()
+    assert p[1].tolist() == [False, True, True, True] and torch.equal(p[0], pad[0])
+
+
+def test_sma_stage_trains_only_the_style_branch():
+    model = tiny().train()
+    params = model.freeze_for_sma()
+    assert {id(p) for p in params} == {id(p) for p in model.parameters() if p.requires_grad}
+    batch = {"z": torch.randn(4, 2, 4), "caption": ["a person walks"] * 4, "style": torch.randn(4, 3, 8),
+             "style_pad": torch.zeros(4, 3, dtype=torch.bool), "is_style": torch.tensor([1, 1, 0, 0])}
+    logs = model.training_step(batch)
+    assert set(logs) >= {"loss", "style_diff", "content_prior", "lambda"}
+    logs["loss"].backward()
+    assert model.denoiser.blocks[0].sma.lam.grad is not None
+    assert model.denoiser.blocks[0].sma.text_attn.in_proj_weight.grad is None
+    assert model.text.embed.weight.grad is None and model.denoiser.inp.weight.grad is None
+
+
+def test_t2m_stage_ignores_style():
+    model = tiny(stage="t2m").train()
+    logs = model.training_step({"z": torch.randn(3, 2, 4), "caption": ["a person walks"] * 3})
+    logs["loss"].backward()
+    assert model.text.embed.weight.grad is not None
+    assert model.denoiser.blocks[0].sma.style_attn.in_proj_weight.grad is None
+    with pytest.raises(ValueError, match="stage"):
+        tiny(stage="finetune")
+
+
+def test_transfer_shapes_determinism_and_bad_t0():
+    pipe = tiny_pipeline()
+    content, style = walk_features(30), walk_features(20)
+    a = pipe.transfer(content, style, "a person walks forward", t0=500, seed=3)
+    b = pipe.transfer(content, style, "a person walks forward", t0=500, seed=3)
+    assert a.shape == content.shape and np.array_equal(a, b)
+    assert pipe.generate(None, style, length=24, seed=0).shape == (24, 263)
+    with pytest.raises(ValueError, match="t0"):
+        pipe.transfer(content, style, t0=1000)
+    with pytest.raises(ValueError, match="guide"):
+        pipe.transfer(content, style, guide=("median", 0))
+
+
+def test_guidance_follows_the_cosine_gradient_only_below_its_threshold():
+    pipe = tiny_pipeline()
+    style = pipe.style_tokens(walk_features(20))
+    text, pad = pipe.text_tokens("a person walks")
+    target = ("global", pipe.model.style.global_bank.prototypes[0, 1])
+    plain = pipe.eps_fn(text, pad, style, 16)
+    guided = pipe.eps_fn(text, pad, style, 16, target=target, weight=5.0, below=150)
+    z = torch.randn(1, 2, 4)
+    for t, differs in ((100, True), (400, False)):
+        tt = torch.tensor([t])
+        assert (not torch.allclose(plain(z, tt), guided(z, tt))) == differs
+    g = pipe.guidance_grad(z, torch.tensor([100]), plain(z, torch.tensor([100])), 16, target)
+    score = lambda zz: torch.nn.functional.cosine_similarity(  # noqa: E731
+        pipe.model.style.features(pipe.vae.decode(pipe.model.sched.predict_x0(
+            zz, torch.tensor([100]), plain(z, torch.tensor([100]))), [16]))[0][0], target[1], dim=0)
+    with torch.no_grad():
+        assert score(z + 1e-2 * g / g.norm()) > score(z)  # the gradient raises cos(f(x̂₀), target)
+
+
+def test_prototype_tokens_replace_the_global_and_local_features():
+    pipe = tiny_pipeline()
+    s = pipe.style_tokens(walk_features(20))  # 19 rows, window 4 → 4 local tokens
+    bank = pipe.model.style
+    out = pipe.prototype_tokens(s, global_k=2, style=1)
+    assert torch.equal(out[0, 0], bank.global_bank.prototypes[1, 2]) and torch.equal(out[0, 1:], s[0, 1:])
+    out = pipe.prototype_tokens(s, local_perm=[3, 1], style=0)
+    assert torch.equal(out[0, 1], bank.local_bank.prototypes[0, 3]) and torch.equal(out[0, 2], bank.local_bank.prototypes[0, 1])
+    assert torch.equal(out[0, 3], bank.local_bank.prototypes[0, 3])
+
+
+def test_pose_diversity_known_answers():
+    f = walk_features(30)
+    assert pose_diversity([f, f]) == 0.0
+    g = f.copy()
+    g[:, 4:67] += 0.01  # joints 1..21 moved 1 cm along x, y and z (√3 cm), the root not: mean over 22
+    assert pose_diversity([f, g]) == pytest.approx(100 * 0.01 * 3 ** 0.5 * 21 / 22, rel=1e-3)
+    with pytest.raises(ValueError, match="features_list"):
+        pose_diversity([f])
+
+
+@pytest.mark.skipif(not course_path("clusterstyle").is_file() or not course_path("vae").is_file(),
+                    reason="course checkpoints not built yet")
+def test_packaged_checkpoint_loads_and_transfers():
+    from mslib.models.clusterstyle_guidance import load_pipeline
+    pipe = load_pipeline()
+    lam = [float(b.sma.lam) for b in pipe.model.denoiser.blocks]
+    assert any(abs(v - 1.0) > 1e-3 for v in lam)  # λ was trained
+    assert bool(pipe.model.style.global_bank.frozen)
+    out = pipe.transfer(walk_features(40), walk_features(32), "a person walks forward", seed=0)
+    assert out.shape == (39, 263) and np.isfinite(out).all()
