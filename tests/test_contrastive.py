@@ -59,7 +59,14 @@ def test_shapes_and_keep_root():
     x = torch.randn(3, 31, 263)
     assert m.encode_content(x).shape == (3, 16, 15)   # h × t, t = T // 2
     assert m.encode_style(x).shape == (3, 8)
-    assert m.generate(m.encode_content(x), m.encode_style(x), 31).shape == (3, 31, 263)
+    assert m.generate(m.encode_content(x), m.encode_style(x), 31, x).shape == (3, 31, 263)
+    with pytest.raises(ValueError, match="content_skip"):
+        m.generate(m.encode_content(x), m.encode_style(x), 31)
+    plain = C.ContrastiveModel(tiny(content_skip=False)).eval()
+    plain.load_state_dict(m.state_dict())
+    skip = m.generate(m.encode_content(x), m.encode_style(x), 31, x) - plain.generate(
+        m.encode_content(x), m.encode_style(x), 31)
+    torch.testing.assert_close(skip, x - x.mean(1, keepdim=True))  # the content's own movement
     assert m.discriminator(x).shape == (3, 7)
     content, style = np.random.default_rng(0).normal(size=(50, 263)), np.random.default_rng(1).normal(size=(31, 263))
     out = m.transfer_features(content, style)

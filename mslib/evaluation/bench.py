@@ -1,15 +1,8 @@
 """The benchmark: every method on the same held-out (content, style) pairs, scored by the evaluator.
 
-A method is a factory registered under a name; the factory (given a device) returns a function
-    transfer(content: dict, style: dict) -> positions (T, 22, 3)
-where each dict holds "features" ((T−1)×263, unnormalised), "joints" (T×22×3) and its labels.
-Later issues add their models with `@register("adain")` in their own modules; `identity` and
-`copy_style` are the reference rows every method must beat on H.
-
-Parameter count (for `python -m mslib perf`, evaluation/perf.py): a factory may give the transfer
-callable it returns an attribute `n_parameters` (int: every parameter the method uses at inference,
-e.g. `transfer.n_parameters = sum(p.numel() for p in model.parameters())`), or return an object with
-a `.parameters()` method (an nn.Module). Without either, perf reports the count as unknown.
+Methods come from the registry in `mslib.models.registry` (each model module registers its own
+transfer factory there); `identity` and `copy_style`, registered here, are the reference rows every
+method must beat on H.
 """
 from __future__ import annotations
 
@@ -19,44 +12,11 @@ from pathlib import Path
 import numpy as np
 
 from ..motion.features import decode
+from ..models.registry import DESCRIPTIONS, METHODS, get_method, known_methods, register  # noqa: F401
 from . import metrics as M
 
-METHODS: dict = {}
-DESCRIPTIONS: dict = {}
-# modules whose import registers more methods (added by later issues; missing ones are skipped)
-METHOD_MODULES = ("mslib.models.adain", "mslib.models.dsdn", "mslib.models.contrastive",
-                  "mslib.models.mcm_ldm", "mslib.models.clusterstyle")
 JSON_KEYS = ("method", "seed", "pairs", "fmd", "cra", "sra", "sra_top3", "h", "tsi", "fsf", "fsr",
              "diversity", "ms_per_clip")
-
-
-def register(name: str, description: str = ""):
-    """Decorator: register a method factory under `name`."""
-    def wrap(factory):
-        METHODS[name] = factory
-        DESCRIPTIONS[name] = description or (factory.__doc__ or "").strip().splitlines()[0]
-        return factory
-    return wrap
-
-
-def known_methods() -> list:
-    """Names of every registered method (importing the model modules that exist)."""
-    import importlib
-    for mod in METHOD_MODULES:
-        try:
-            importlib.import_module(mod)
-        except ModuleNotFoundError as e:
-            if e.name != mod:
-                raise
-    return sorted(METHODS)
-
-
-def get_method(name: str, device: str = "cpu"):
-    """The transfer function of a registered method; unknown names list the known ones."""
-    names = known_methods()
-    if name not in METHODS:
-        raise ValueError(f"--method {name!r} is unknown; known methods: {', '.join(names)}")
-    return METHODS[name](device)
 
 
 # ---------------------------------------------------------------- the reference rows

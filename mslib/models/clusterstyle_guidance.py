@@ -213,7 +213,7 @@ def load_pipeline(device="cpu", path=None, vae_path=None) -> Pipeline:
     return Pipeline(load_clusterstyle(path, device), load_vae(vae_path, device), device)
 
 
-from ..evaluation.bench import register  # noqa: E402  (the registry only; never the evaluator)
+from .registry import register  # noqa: E402
 
 
 @register("clusterstyle", "D: SDEdit transfer (t0=600, 20 DDIM steps), 3-way CFG, reference-feature guidance")

@@ -47,6 +47,7 @@ class ContrastiveConfig:
     gamma: float = 0.3         # C Eq. 5: triplet weight
     margin: float = 1.0        # C Eq. 4: λ
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
+    content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
     crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
     d_lr: float = 1e-4         # the discriminator's own optimiser
     steps: int = 200_000
@@ -61,7 +62,7 @@ class ContrastiveConfig:
             cfg = cls()
         elif name == "course":
             cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=2500, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100)
+                      d_lr=5e-4, warmup_steps=100, content_skip=True)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
         known = {f.name for f in fields(cls)}
@@ -138,6 +139,9 @@ class Generator(nn.Module):
         self.style_mlp = nn.Sequential(nn.Linear(cfg.style_dim, h), nn.LeakyReLU(0.2), nn.Linear(h, h))
         self.blocks = nn.ModuleList(AdaINResBlock(h, h) for _ in range(4))
         self.head = nn.Sequential(_conv(h, h), nn.LeakyReLU(0.2), nn.Conv1d(h, cfg.feature_dim, 1))
+        if cfg.content_skip:  # start as the identity on the content's movement (zero-initialised output layer)
+            nn.init.zeros_(self.head[-1].weight)
+            nn.init.zeros_(self.head[-1].bias)
 
     def forward(self, content: torch.Tensor, style: torch.Tensor, length: int) -> torch.Tensor:
         s = self.style_mlp(style)  # (B, h)
@@ -246,9 +250,16 @@ class ContrastiveModel(nn.Module):
         """Normalised (B, T, D) → style code (B, l)."""
         return self.style_encoder(x)
 
-    def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int) -> torch.Tensor:
-        """G(E_c(·) | E_s(·)) → normalised (B, length, D)."""
-        return self.generator(content_code, style_code, length)
+    def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int,
+                 content: torch.Tensor | None = None) -> torch.Tensor:
+        """G(E_c(·) | E_s(·)) → normalised (B, length, D); with `content_skip`, plus the content
+        motion's own movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D))."""
+        out = self.generator(content_code, style_code, length)
+        if self.cfg.content_skip:
+            if content is None:
+                raise ValueError("content: needed by a model with content_skip=True")
+            out = out + content - content.mean(1, keepdim=True)
+        return out
 
     def _check(self, x, name):
         if x.dim() != 3 or x.shape[-1] != self.cfg.feature_dim:
@@ -264,9 +275,9 @@ class ContrastiveModel(nn.Module):
         T = target.shape[1]
         c_t, c_s = self.encode_content(target), self.encode_content(source)  # (B, h, t)
         s_t, s_s = self.encode_style(target), self.encode_style(source)      # (B, l)
-        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1]), source)      # C Eq. 1
-               + reconstruction_loss(self.generate(c_t, s_t, T), target))
-        fake = self.generate(c_t, s_s, T)  # M^G = G(E_c(M^T) | E_s(M^S))
+        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1], source), source)      # C Eq. 1
+               + reconstruction_loss(self.generate(c_t, s_t, T, target), target))
+        fake = self.generate(c_t, s_s, T, target)  # M^G = G(E_c(M^T) | E_s(M^S))
         nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
         tri = triplet_loss(self.encode_style(fake), s_s, s_t, self.cfg.margin)              # C Eq. 4
         return {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
@@ -303,7 +314,7 @@ class ContrastiveModel(nn.Module):
         self._check(c, "content")
         self._check(s, "style")
         c, s = self.normalize(c), self.normalize(s)
-        out = self.denormalize(self.generate(self.encode_content(c), self.encode_style(s), c.shape[1]))[0]
+        out = self.denormalize(self.generate(self.encode_content(c), self.encode_style(s), c.shape[1], c))[0]
         out = out.cpu().numpy().astype(np.float64)
         k = self.cfg.keep_root
         out[:, :k] = np.asarray(content, np.float64)[:, :k]
@@ -393,21 +404,15 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
 
 TRAINABLE = {NAME: run}
 
-
-def _register():
-    from importlib import import_module
-    try:
-        bench = import_module("mslib.evaluation.bench")  # registering only; the model never uses it
-    except ModuleNotFoundError:
-        return
-
-    @bench.register(NAME, "paper C: content code + AdaIN from a style code, InfoNCE + triplet, no labels")
-    def _factory(device="cpu"):
-        model = load(device=device)
-
-        def transfer(content, style):
-            return decode(model.transfer_features(content["features"], style["features"]))
-        return transfer
+from .registry import register  # noqa: E402
 
 
-_register()
+@register(NAME, "paper C: content code + AdaIN from a style code, InfoNCE + triplet, no labels")
+def bench_contrastive(device="cpu"):
+    """Bench factory: transfer(content, style) → positions (T, 22, 3) with the course checkpoint."""
+    model = load(device=device)
+
+    def transfer(content, style):
+        return decode(model.transfer_features(content["features"], style["features"]))
+    transfer.n_parameters = sum(p.numel() for p in model.parameters())
+    return transfer

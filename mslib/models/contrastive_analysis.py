@@ -121,7 +121,7 @@ def interpolate_styles(model: ContrastiveModel, content: np.ndarray, style_a: np
     k = model.cfg.keep_root
     out = []
     for w in weights:
-        f = model.denormalize(model.generate(code_c, (1 - w) * sa + w * sb, c.shape[1]))[0].cpu().numpy()
+        f = model.denormalize(model.generate(code_c, (1 - w) * sa + w * sb, c.shape[1], c))[0].cpu().numpy()
         f = f.astype(np.float64)
         f[:, :k] = np.asarray(content, np.float64)[:, :k]
         out.append(decode(f))

@@ -61,7 +61,7 @@ class VAEConfig:
             return cls()
         if name == "course":
             return cls(latent_tokens=4, latent_dim=64, dim=128, heads=4, layers=2, ff_mult=2, dropout=0.0,
-                       root_weight=4.0, steps=700, batch_size=24, lr=1e-3)
+                       root_weight=4.0, steps=1600, batch_size=24, lr=1e-3)
         raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
 
     @classmethod

@@ -1,0 +1,277 @@
+"""Paper A stage 1: AdaIN style transfer with dual-path training (A §3.2, DESIGN.md §7).
+
+Content encoder on normalised 263-d content features; a simplified transformer style encoder on the
+style motion's joint positions (T×22×3, root path removed, facing frame); AdaIN over time (A Eq. 2)
+with mean-only / variance-only switches; a conv decoder back to 263-d. Training (A §3.2.2): a
+self-reconstruction path on content clips (A Eq. 4) and a stylization path with style clips from the
+retargeted style corpus (A Eq. 3), cross-dataset as in A §4.1; total A Eq. 5.
+The output keeps the content's root trajectory (dims 0..3) — the root path is content, not style.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import torch
+from torch import nn
+from torch.utils.data import Dataset
+
+from ..checkpoints import course_path, load_state
+from ..data.datasets import ContentClips, StyleClips
+from ..motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
+from ..training import TrainConfig, fit
+from .layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
+
+ROOT_DIMS = slice(0, 4)  # root angular velocity, XZ velocity, height: kept from the content
+
+
+@dataclass
+class AdainConfig:
+    """Sizes and loss weights of the stage-1 model (A §3.2); `paper` preset = larger, longer."""
+
+    hidden: int = 64  # channels of C_c, C_s (AdaIN acts on these)
+    content_blocks: int = 2  # residual conv blocks of the content encoder E_c
+    decoder_blocks: int = 2  # residual conv blocks of the motion decoder
+    style_layers: int = 1  # transformer layers of the style encoder E_s
+    heads: int = 4
+    kernel: int = 3
+    dropout: float = 0.0
+    lambda_style: float = 1.0  # A Eq. 5
+    lambda_content: float = 1.0  # A Eq. 5
+    clip_frames: int = 32  # content crop length (feature rows) in training
+    content_skip: bool = True  # the decoder also sees the content features minus their mean over time
+    style_recon: bool = True
+    style_strength: float = 1.0  # inference: how far the statistics move from the content's to the style's  # also run the self-reconstruction path on the style clips (see losses)
+
+
+PRESETS = {
+    "course": (AdainConfig(), TrainConfig(steps=1500, batch_size=16, lr=2e-3, warmup_steps=50,
+                                          val_every=250, val_batches=4, time_budget_s=None)),
+    "paper": (AdainConfig(hidden=256, content_blocks=4, decoder_blocks=4, style_layers=4, dropout=0.1,
+                          clip_frames=120),
+              TrainConfig(steps=40000, batch_size=64, lr=2e-4, warmup_steps=1000, val_every=1000)),
+}
+
+
+def pose_positions(features: torch.Tensor) -> torch.Tensor:
+    """Unnormalised (B, T, 263) → joint positions (B, T, 22, 3) with the root path removed: the root at
+    (0, height, 0), joints 1..21 from the ric block (facing frame)."""
+    ric = features[..., BLOCKS["ric"]].reshape(*features.shape[:-1], N_JOINTS - 1, 3)  # (B, T, 21, 3)
+    root = torch.zeros_like(ric[..., :1, :])
+    root = root + features[..., 3:4, None] * torch.tensor([0.0, 1.0, 0.0], device=features.device)
+    return torch.cat([root, ric], -2)  # (B, T, 22, 3)
+
+
+class ContentEncoder(nn.Module):
+    """E_c: normalised 263-d features (B, T, 263) → C_c (B, T, H), residual Conv1d over time."""
+
+    def __init__(self, cfg: AdainConfig):
+        super().__init__()
+        self.inp = nn.Conv1d(N_FEATURES, cfg.hidden, 1)
+        self.blocks = nn.Sequential(*[ResBlock1d(cfg.hidden, cfg.kernel) for _ in range(cfg.content_blocks)])
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.blocks(self.inp(x.transpose(1, 2))).transpose(1, 2)  # (B, T, H)
+
+
+class StyleEncoder(nn.Module):
+    """E_s: joint positions (B, T, 22, 3) → C_s (B, T, H); a small transformer (A §3.2.1)."""
+
+    def __init__(self, cfg: AdainConfig):
+        super().__init__()
+        self.inp = nn.Linear(N_JOINTS * 3, cfg.hidden)
+        self.pos = PositionalEncoding(cfg.hidden, max_len=1024)
+        self.body = transformer_encoder(cfg.hidden, cfg.heads, cfg.style_layers, ff_mult=2, dropout=cfg.dropout)
+        self.out = nn.LayerNorm(cfg.hidden)
+
+    def forward(self, positions: torch.Tensor) -> torch.Tensor:
+        x = self.inp(positions.flatten(-2))  # (B, T, H)
+        return self.out(self.body(self.pos(x)))  # (B, T, H)
+
+
+class Decoder(nn.Module):
+    """Motion decoder: (B, T, H) code [+ (B, T, 263) centred content skip] → normalised 263-d (B, T, 263)."""
+
+    def __init__(self, cfg: AdainConfig):
+        super().__init__()
+        self.skip = nn.Conv1d(N_FEATURES, cfg.hidden, 1) if cfg.content_skip else None
+        self.blocks = nn.Sequential(*[ResBlock1d(cfg.hidden, cfg.kernel) for _ in range(cfg.decoder_blocks)])
+        self.out = nn.Conv1d(cfg.hidden, N_FEATURES, 1)
+
+    def forward(self, h: torch.Tensor, skip: torch.Tensor | None = None) -> torch.Tensor:
+        h = h.transpose(1, 2)  # (B, H, T)
+        if self.skip is not None:
+            h = h + self.skip(skip.transpose(1, 2))
+        return self.out(nn.functional.leaky_relu(self.blocks(h))).transpose(1, 2)
+
+
+class AdainTransfer(nn.Module):
+    """The stage-1 model: E_c, E_s, AdaIN, decoder, and the dual-path losses (A Eq. 3–5)."""
+
+    def __init__(self, cfg: AdainConfig | dict | None = None, mean=None, std=None):
+        super().__init__()
+        cfg = AdainConfig(**cfg) if isinstance(cfg, dict) else (cfg or AdainConfig())
+        self.cfg, self.config = cfg, asdict(cfg)
+        self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
+                                                     dtype=torch.float32).clone())
+        self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
+                                                    dtype=torch.float32).clone())
+        self.content_encoder, self.style_encoder, self.decoder = ContentEncoder(cfg), StyleEncoder(cfg), Decoder(cfg)
+
+    # ------------------------------------------------------------ pieces
+    def normalize(self, f: torch.Tensor) -> torch.Tensor:
+        return (f - self.mean) / self.std
+
+    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
+        return x * self.std + self.mean
+
+    def style_stats(self, style_features: torch.Tensor, mask=None) -> tuple:
+        """μ, σ over time of C_s = E_s(positions of the style motion); unnormalised (B, T, 263) in."""
+        return channel_stats(self.style_encoder(pose_positions(style_features)), mask)  # (B, 1, H) ×2
+
+    def stylize(self, content: torch.Tensor, style_mu, style_sigma, mask=None, use_mean=True, use_std=True,
+                code=None):
+        """Normalised content (B, T, 263) + style statistics → unnormalised stylized features (B, T, 263);
+        dims 0..3 (the root trajectory) are the content's. `code`: E_c(content) when already computed."""
+        centred = content - content.mean(1, keepdim=True)  # (B, T, 263): the content's own mean pose removed
+        c = self.content_encoder(centred) if code is None else code  # C_c (B, T, H)
+        cs = adain(c, style_mu, style_sigma, mask, use_mean, use_std)  # A Eq. 2: C_{c→s}
+        out = self.denormalize(self.decoder(cs, centred if self.cfg.content_skip else None))  # P_{c→s} (B, T, 263)
+        return torch.cat([self.denormalize(content)[..., ROOT_DIMS], out[..., 4:]], -1)
+
+    def forward(self, content: torch.Tensor, style_features: torch.Tensor, use_mean=True, use_std=True,
+                content_mask=None, style_mask=None, strength: float | None = None) -> torch.Tensor:
+        """Normalised content (B, T, 263), unnormalised style features (B, S, 263) → unnormalised output.
+
+        strength w: the style statistics interpolated from the content's own, μ = μ_c + w(μ_s − μ_c)
+        (likewise σ), Huang & Belongie's content–style trade-off; default `cfg.style_strength`."""
+        w = self.cfg.style_strength if strength is None else float(strength)
+        mu, sigma = self.style_stats(style_features, style_mask)  # (B, 1, H) ×2
+        if w != 1.0:
+            mu_c, sigma_c = self.style_stats(self.denormalize(content), content_mask)
+            mu, sigma = mu_c + w * (mu - mu_c), sigma_c + w * (sigma - sigma_c)
+        return self.stylize(content, mu, sigma, content_mask, use_mean, use_std)
+
+    # ------------------------------------------------------------ the two paths (A §3.2.2)
+    def losses(self, batch: dict) -> dict:
+        """L_content (A Eq. 4), L_style (A Eq. 3) and the total (A Eq. 5) on a batch."""
+        x_c = batch["content"]["features"]  # normalised (B, T, 263)
+        f_c = self.denormalize(x_c)
+        f_s = batch["style"]["features"]  # unnormalised (B, S, 263)
+        # self-reconstruction path: the content motion is its own style input
+        code = self.content_encoder(x_c - x_c.mean(1, keepdim=True))  # C_c (B, T, H), shared by both paths
+        mu_cc, sig_cc = self.style_stats(f_c)
+        rec = self.normalize(self.stylize(x_c, mu_cc, sig_cc, code=code))
+        l_content = (rec[..., 4:] - x_c[..., 4:]).abs().mean()  # A Eq. 4: ‖P_{c→c} − P_c‖₁
+        # stylization path: style clips from the other (retargeted) corpus
+        mu_s, sig_s = self.style_stats(f_s)
+        if self.cfg.style_recon:  # the same A Eq. 4 on the style clips: the decoder learns their poses
+            x_s = self.normalize(f_s)
+            rec_s = self.normalize(self.stylize(x_s, mu_s, sig_s))
+            l_content = 0.5 * (l_content + (rec_s[..., 4:] - x_s[..., 4:]).abs().mean())
+        out = self.stylize(x_c, mu_s, sig_s, code=code)  # P_{c→s}
+        mu_o, sig_o = self.style_stats(out)  # statistics of E_s(P_{c→s})
+        l_style = ((mu_o - mu_s.detach()) ** 2).sum(-1).mean() + ((sig_o - sig_s.detach()) ** 2).sum(-1).mean()  # A Eq. 3
+        total = self.cfg.lambda_style * l_style + self.cfg.lambda_content * l_content  # A Eq. 5
+        return {"loss": total, "content": l_content, "style": l_style}
+
+    def training_step(self, batch: dict) -> dict:
+        logs = self.losses(batch)
+        return {"loss": logs["loss"], "content": float(logs["content"].detach()),
+                "style": float(logs["style"].detach())}
+
+    def validation_step(self, batch: dict) -> dict:
+        return {k: float(v) for k, v in self.losses(batch).items()}
+
+    # ------------------------------------------------------------ inference on numpy motions
+    @torch.no_grad()
+    def transfer_features(self, content_features, style_features, use_mean=True, use_std=True,
+                          strength: float | None = None) -> np.ndarray:
+        """Unnormalised (T, 263) content and (S, 263) style features → stylized (T, 263) float64."""
+        c = torch.as_tensor(np.asarray(check_features(content_features, "content_features")),
+                            dtype=torch.float32, device=self.mean.device)[None]
+        s = torch.as_tensor(np.asarray(check_features(style_features, "style_features")),
+                            dtype=torch.float32, device=self.mean.device)[None]
+        if c.ndim != 3 or s.ndim != 3:
+            raise ValueError("content_features/style_features: expected one motion each, shape (T, 263)")
+        self.eval()
+        out = self(self.normalize(c), s, use_mean=use_mean, use_std=use_std, strength=strength)
+        return out[0].double().cpu().numpy()
+
+    def transfer(self, content_features, style_features, use_mean=True, use_std=True,
+                 strength: float | None = None) -> np.ndarray:
+        """Stylized joint positions (T+1, 22, 3) from unnormalised content and style features."""
+        return decode(self.transfer_features(content_features, style_features, use_mean, use_std, strength))
+
+
+# ---------------------------------------------------------------- data: (content clip, style clip) pairs
+class TransferPairs(Dataset):
+    """Item i = {"content": content clip i (normalised, cropped), "style": a style clip (unnormalised)};
+    the style clip is drawn at random in training and fixed per index otherwise."""
+
+    def __init__(self, content_folder, style_folder, split: str = "train", length: int = 64, seed: int = 0,
+                 random_style: bool = True):
+        self.content = ContentClips(content_folder, split, length=length, random_crop=split == "train", seed=seed)
+        self.style = StyleClips(style_folder, split, normalize=False, joints=False)
+        self.random_style, self.seed = random_style, seed
+
+    def __len__(self) -> int:
+        return len(self.content)
+
+    def __getitem__(self, i: int) -> dict:
+        j = int(torch.randint(len(self.style), ())) if self.random_style else (i * 7919 + self.seed) % len(self.style)
+        c, s = self.content[i], self.style[j]
+        return {"content": {"features": c["features"]}, "style": {"features": s["features"]}}
+
+
+def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cpu", steps=None, resume=None,
+                progress=True, config: AdainConfig | None = None, train_config: TrainConfig | None = None):
+    """Train the stage-1 model on the content and style folders; returns (model, history)."""
+    if preset not in PRESETS:
+        raise ValueError(f"preset: expected one of {sorted(PRESETS)}, got {preset!r}")
+    cfg, tcfg = PRESETS[preset]
+    cfg = config or cfg
+    tcfg = TrainConfig(**{**asdict(train_config or tcfg), "seed": seed, **({"steps": steps} if steps else {})})
+    train = TransferPairs(content, style, "train", cfg.clip_frames, seed)
+    val = TransferPairs(content, style, "val", cfg.clip_frames, seed, random_style=False)
+    model = AdainTransfer(cfg, train.content.mean, train.content.std)
+    history = fit(model, train, tcfg, val, model_name="adain", out=out, resume=resume,
+                  device=device, progress=progress)
+    return model, history
+
+
+def load_adain(path=None, device="cpu") -> AdainTransfer:
+    """The stage-1 model from a checkpoint (default: the packaged course one)."""
+    from ..checkpoints import read_checkpoint
+    path = path or course_path("adain")
+    blob = read_checkpoint(path, "adain")
+    model = AdainTransfer(blob["config"])
+    load_state(path, model, "adain")
+    return model.to(device).eval()
+
+
+def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
+    out = out or course_path("adain")
+    model, h = train_adain(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
+                           progress=progress)
+    return {"model": "adain", "out": str(out), "steps": h["step"][-1], "seconds": round(h["seconds"], 1),
+            "stopped": h["stopped"],
+            **{f"{part}_{k}": round(h[part][k][-1], 4) for part in ("train", "val") for k in ("content", "style")}}
+
+
+TRAINABLE = {"adain": _run}
+
+
+# ---------------------------------------------------------------- bench registration (models/registry.py)
+from .registry import register  # noqa: E402
+
+
+@register("adain", "A stage 1: AdaIN transfer (content root path kept, decoder's stylized pose)")
+def bench_adain(device="cpu", path=None):
+    """Bench factory: transfer(content, style) → positions (T, 22, 3) with the course checkpoint."""
+    model = load_adain(path, device)
+
+    def transfer(content: dict, style: dict) -> np.ndarray:
+        return model.transfer(content["features"], style["features"])
+    transfer.n_parameters = sum(p.numel() for p in model.parameters())
+    return transfer

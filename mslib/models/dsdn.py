@@ -1,0 +1,236 @@
+"""Paper A stage 2: the Dual-Stream Denoising Network with adaptive gating (A §3.3, DESIGN.md §7).
+
+Dynamic stream: a 1-layer LSTM (hidden 128) over the raw 263-d sequence and a two-layer regressor
+(A Eq. 6). Static stream: a conv autoencoder, two Conv1d (kernel 4, stride 2) up to 512 channels
+(T' = T/4) and a mirrored transposed-conv decoder (A Eq. 7). The Adaptive Gating Fusion Unit gives a
+per-frame weight α = Softplus(W2 tanh(W1 x + b1) + b2) (A Eq. 8–10); output α·dynamic + (1−α)·static.
+Losses L_rec (A Eq. 11) and L_vel (A Eq. 12). Training pairs (A §4.3.1): a content motion and its
+neutral-style transfer by the stage-1 model; at inference it corrects transfers to any style.
+`mode` = "dual" | "dynamic" | "static" gives the single-stream ablations of A Table 2.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import torch
+from torch import nn
+from torch.utils.data import Dataset, TensorDataset
+
+from ..checkpoints import course_path, load_state, read_checkpoint
+from ..data.datasets import ContentClips, StyleClips
+from ..motion.features import N_FEATURES, check_features, decode
+from ..training import TrainConfig, fit
+from .adain import ROOT_DIMS, load_adain
+
+MODES = ("dual", "dynamic", "static")
+
+
+@dataclass
+class DsdnConfig:
+    """Sizes of the stage-2 model (A §3.3) and the loss weight of L_vel."""
+
+    mode: str = "dual"  # "dual", "dynamic" (LSTM only) or "static" (conv AE only): A Table 2
+    lstm_hidden: int = 128  # A §3.3.3
+    regressor_hidden: int = 128  # A Eq. 6: W1
+    static_channels: tuple = (256, 512)  # A §3.3.4: two Conv1d, kernel 4, stride 2, up to 512
+    gate_hidden: int = 64  # A Eq. 8: W1 ∈ R^{64×D}
+    lambda_vel: float = 1.0  # weight of L_vel (A Eq. 12) beside L_rec (A Eq. 11)
+    clip_frames: int = 64  # training crop length (feature rows), a multiple of 4
+
+
+PRESETS = {
+    "course": (DsdnConfig(), TrainConfig(steps=600, batch_size=32, lr=1e-3, warmup_steps=20, val_every=100,
+                                         val_batches=4)),
+    "paper": (DsdnConfig(clip_frames=196), TrainConfig(steps=20000, batch_size=64, lr=1e-3, val_every=500)),
+}
+
+
+class DynamicStream(nn.Module):
+    """LSTM over time + two-layer regressor (A Eq. 6): (B, T, D) → (B, T, D)."""
+
+    def __init__(self, cfg: DsdnConfig):
+        super().__init__()
+        self.lstm = nn.LSTM(N_FEATURES, cfg.lstm_hidden, num_layers=1, batch_first=True)
+        self.w1 = nn.Linear(cfg.lstm_hidden, cfg.regressor_hidden)
+        self.w2 = nn.Linear(cfg.regressor_hidden, N_FEATURES)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        h, _ = self.lstm(x)  # h_t (B, T, 128)
+        return self.w2(torch.tanh(self.w1(h)))  # A Eq. 6: X_dyn = W2·tanh(W1·h_t + b1) + b2
+
+
+class StaticStream(nn.Module):
+    """Conv autoencoder (A Eq. 7): C_s = E(P) at T/4 with 512 channels, P̂ = D(C_s); (B, T, D) → (B, T, D)."""
+
+    def __init__(self, cfg: DsdnConfig):
+        super().__init__()
+        c1, c2 = cfg.static_channels
+        self.encoder = nn.Sequential(nn.Conv1d(N_FEATURES, c1, 4, 2, 1), nn.LeakyReLU(0.2),
+                                     nn.Conv1d(c1, c2, 4, 2, 1), nn.LeakyReLU(0.2))
+        self.decoder = nn.Sequential(nn.ConvTranspose1d(c2, c1, 4, 2, 1), nn.LeakyReLU(0.2),
+                                     nn.ConvTranspose1d(c1, N_FEATURES, 4, 2, 1))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        T = x.shape[1]
+        pad = (-T) % 4  # the two stride-2 layers need T divisible by 4: repeat the last frame
+        if pad:
+            x = torch.cat([x, x[:, -1:].expand(-1, pad, -1)], 1)
+        code = self.encoder(x.transpose(1, 2))  # C_s (B, 512, T/4)
+        return self.decoder(code).transpose(1, 2)[:, :T]  # P̂ (B, T, D)
+
+
+class GatingUnit(nn.Module):
+    """AGFU (A Eq. 8–10): α = Softplus(W2·tanh(W1·x + b1) + b2) per frame; (B, T, D) → (B, T, 1)."""
+
+    def __init__(self, cfg: DsdnConfig):
+        super().__init__()
+        self.w1 = nn.Linear(N_FEATURES, cfg.gate_hidden)  # A Eq. 8
+        self.w2 = nn.Linear(cfg.gate_hidden, 1)  # A Eq. 9 (1×64; the paper's 1×32 is a typo)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return nn.functional.softplus(self.w2(torch.tanh(self.w1(x))))  # A Eq. 10
+
+
+class DSDN(nn.Module):
+    """Dual-stream denoiser on normalised 263-d features; `mode` picks dual or a single stream."""
+
+    def __init__(self, cfg: DsdnConfig | dict | None = None, mean=None, std=None):
+        super().__init__()
+        if isinstance(cfg, dict):
+            cfg = DsdnConfig(**{**cfg, "static_channels": tuple(cfg.get("static_channels", (256, 512)))})
+        cfg = cfg or DsdnConfig()
+        if cfg.mode not in MODES:
+            raise ValueError(f"mode: expected one of {MODES}, got {cfg.mode!r}")
+        self.cfg, self.config = cfg, {**asdict(cfg), "static_channels": list(cfg.static_channels)}
+        self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
+                                                     dtype=torch.float32).clone())
+        self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
+                                                    dtype=torch.float32).clone())
+        self.dynamic = DynamicStream(cfg) if cfg.mode in ("dual", "dynamic") else None
+        self.static = StaticStream(cfg) if cfg.mode in ("dual", "static") else None
+        self.gate = GatingUnit(cfg) if cfg.mode == "dual" else None
+
+    def forward(self, x: torch.Tensor, return_gate: bool = False):
+        """Normalised noisy motion (B, T, 263) → corrected (B, T, 263) [and α (B, T, 1)]."""
+        if self.cfg.mode == "dynamic":
+            out, alpha = self.dynamic(x), torch.ones_like(x[..., :1])
+        elif self.cfg.mode == "static":
+            out, alpha = self.static(x), torch.zeros_like(x[..., :1])
+        else:
+            alpha = self.gate(x)  # (B, T, 1)
+            out = alpha * self.dynamic(x) + (1 - alpha) * self.static(x)  # fused: α·dynamic + (1−α)·static
+        return (out, alpha) if return_gate else out
+
+    def losses(self, batch) -> dict:
+        """L_rec (A Eq. 11) against the clean content and L_vel (A Eq. 12) on the fused output."""
+        noisy, clean = batch  # normalised (B, T, 263) each
+        fused = self(noisy)
+        l_rec = (fused - clean).abs().mean()  # A Eq. 11: ‖P_o − P_c‖₁
+        l_vel = (fused[:, 1:] - fused[:, :-1]).abs().mean()  # A Eq. 12: ‖P[:, 1:] − P[:, :−1]‖₁
+        return {"loss": l_rec + self.cfg.lambda_vel * l_vel, "rec": l_rec, "vel": l_vel}
+
+    def training_step(self, batch) -> dict:
+        logs = self.losses(batch)
+        return {"loss": logs["loss"], "rec": float(logs["rec"].detach()), "vel": float(logs["vel"].detach())}
+
+    def validation_step(self, batch) -> dict:
+        return {k: float(v) for k, v in self.losses(batch).items()}
+
+    @torch.no_grad()
+    def correct_features(self, features) -> np.ndarray:
+        """Unnormalised stylized features (T, 263) → corrected (T, 263) float64; root dims 0..3 kept."""
+        f = np.asarray(check_features(features, "features"))
+        if f.ndim != 2:
+            raise ValueError(f"features: expected one motion of shape (T, 263), got {f.shape}")
+        x = torch.as_tensor(f, dtype=torch.float32, device=self.mean.device)[None]
+        self.eval()
+        out = self((x - self.mean) / self.std)[0] * self.std + self.mean
+        out = torch.cat([x[0, :, ROOT_DIMS], out[:, 4:]], -1)  # the root path stays the content's
+        return out.double().cpu().numpy()
+
+    @torch.no_grad()
+    def gate_weights(self, features) -> np.ndarray:
+        """α per frame (T,) for unnormalised features (T, 263) (dual mode)."""
+        x = torch.as_tensor(np.asarray(check_features(features, "features")), dtype=torch.float32,
+                            device=self.mean.device)[None]
+        return self((x - self.mean) / self.std, return_gate=True)[1][0, :, 0].double().cpu().numpy()
+
+
+# ---------------------------------------------------------------- training pairs (A §4.3.1)
+def neutral_pairs(stage1, content_folder, style_folder, split: str, length: int, seed: int = 0):
+    """(noisy, clean) normalised tensors (N, length, 263): each content clip of the split and its
+    transfer to a neutral style clip of the same split by the stage-1 model."""
+    content = ContentClips(content_folder, split, normalize=False, length=length, random_crop=split == "train",
+                           seed=seed)
+    style = StyleClips(style_folder, split, normalize=False, joints=False)
+    neutral = [i for i, r in enumerate(style.rows) if r["style"] == "neutral"]
+    if not neutral:
+        raise ValueError(f"style_folder: no neutral clips in split {split!r} to build training pairs from")
+    rng = np.random.default_rng([seed, 7])
+    mean, std = stage1.mean.cpu().numpy(), stage1.std.cpu().numpy()
+    noisy, clean = [], []
+    for i in range(len(content)):
+        c = content[i]["features"].numpy().astype(np.float64)
+        s = style[neutral[int(rng.integers(len(neutral)))]]["features"].numpy()
+        noisy.append((stage1.transfer_features(c, s) - mean) / std)
+        clean.append((c - mean) / std)
+    return (torch.as_tensor(np.stack(noisy), dtype=torch.float32),
+            torch.as_tensor(np.stack(clean), dtype=torch.float32))
+
+
+def train_dsdn(preset: str, content, style, seed: int = 0, out=None, device="cpu", steps=None, resume=None,
+               progress=True, config: DsdnConfig | None = None, train_config: TrainConfig | None = None,
+               stage1=None, data=None):
+    """Train the stage-2 model on neutral-transfer pairs; returns (model, history).
+
+    data: precomputed ((noisy, clean) train, (noisy, clean) val) tensors, e.g. to train the three
+    ablation modes on the same pairs; default: built from the stage-1 model (`stage1`, default the
+    packaged adain checkpoint)."""
+    if preset not in PRESETS:
+        raise ValueError(f"preset: expected one of {sorted(PRESETS)}, got {preset!r}")
+    cfg, tcfg = PRESETS[preset]
+    cfg = config or cfg
+    tcfg = TrainConfig(**{**asdict(train_config or tcfg), "seed": seed, **({"steps": steps} if steps else {})})
+    stage1 = stage1 or load_adain(device="cpu")
+    if data is None:
+        data = tuple(neutral_pairs(stage1, content, style, split, cfg.clip_frames, seed) for split in ("train", "val"))
+    model = DSDN(cfg, stage1.mean.cpu(), stage1.std.cpu())
+    history = fit(model, TensorDataset(*data[0]), tcfg, TensorDataset(*data[1]), model_name="dsdn", out=out,
+                  resume=resume, device=device, progress=progress)
+    return model, history
+
+
+def load_dsdn(path=None, device="cpu") -> DSDN:
+    """The stage-2 model from a checkpoint (default: the packaged course one)."""
+    path = path or course_path("dsdn")
+    model = DSDN(read_checkpoint(path, "dsdn")["config"])
+    load_state(path, model, "dsdn")
+    return model.to(device).eval()
+
+
+def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
+    out = out or course_path("dsdn")
+    _, h = train_dsdn(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
+                      progress=progress)
+    return {"model": "dsdn", "out": str(out), "steps": h["step"][-1], "seconds": round(h["seconds"], 1),
+            "stopped": h["stopped"],
+            **{f"{part}_{k}": round(h[part][k][-1], 4) for part in ("train", "val") for k in ("rec", "vel")}}
+
+
+TRAINABLE = {"dsdn": _run}
+
+
+# ---------------------------------------------------------------- bench registration
+from .registry import register  # noqa: E402
+
+
+@register("adain+dsdn", "A stages 1+2: AdaIN transfer, then the dual-stream correction")
+def bench_adain_dsdn(device="cpu"):
+    """Bench factory: stage 1 (course adain) then stage 2 (course dsdn) → positions (T, 22, 3)."""
+    stage1, stage2 = load_adain(device=device), load_dsdn(device=device)
+
+    def transfer(content: dict, style: dict) -> np.ndarray:
+        return decode(stage2.correct_features(stage1.transfer_features(content["features"], style["features"])))
+    transfer.n_parameters = sum(p.numel() for m in (stage1, stage2) for p in m.parameters())
+    return transfer

@@ -1,0 +1,202 @@
+"""MCM-LDM around the denoiser: training tensors (frozen VAE and style extractor, computed once), the
+training run (and its B Table 2 switches), the transfer function and the bench entry `mcm_ldm`."""
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+import torch
+from torch.utils.data import Dataset
+
+from ..checkpoints import course_path, load_state, read_checkpoint
+from ..data.datasets import ContentClips, StyleClips
+from ..motion.features import decode as decode_positions
+from ..training import TrainConfig, fit
+from . import style_extractor as SE
+from .mcm_ldm import MCMLDM, NAME, STYLE_WINDOW, TRAJ, MCMConfig
+from .vae import MotionVAE, load_vae, pad_batch
+
+
+# ---------------------------------------------------------------- training tensors
+def _window(x: torch.Tensor, n: int) -> torch.Tensor:
+    """The centre n frames of (T, C) (edge-padded when shorter)."""
+    if len(x) < n:
+        return torch.cat([x, x[-1:].expand(n - len(x), -1)])
+    s = (len(x) - n) // 2
+    return x[s:s + n]
+
+
+@torch.no_grad()
+def build_tensors(vae: MotionVAE, extractor, content, style, split: str, views: int = 2, seed: int = 0,
+                  windows: bool = False, batch_size: int = 64, limit: int | None = None) -> dict:
+    """Every clip of a split (content + style corpora) as fixed tensors: "z0" target latent (M, N, d),
+    "zc" content latent of the features with the trajectory dims zeroed, "style" frozen style embedding of
+    the centre 32 frames (M, S), "traj" (M, max_len, 3), "length" (M,); view 0 = the clip, further views =
+    random crops. `windows=True` also keeps "style_window" (M, 32, 263) for the from-scratch ablation;
+    `limit`: at most that many clips of each corpus (evenly spaced), for quick runs."""
+    raws = []
+    for ds in (ContentClips(content, split, normalize=False), StyleClips(style, split, normalize=False, joints=False)):
+        idx = range(len(ds)) if limit is None else np.linspace(0, len(ds) - 1, min(int(limit), len(ds))).astype(int)
+        raws += [ds[int(i)]["features"] for i in idx]
+    g = torch.Generator().manual_seed(seed)
+    L = vae.cfg.max_len
+    clips = []
+    for v in range(views):
+        for r in raws:
+            x = vae.normalize(r)[:L]
+            if v > 0 and len(x) > 32:
+                n = int(torch.randint(32, len(x) + 1, (), generator=g))
+                s = int(torch.randint(0, len(x) - n + 1, (), generator=g))
+                x = x[s:s + n]
+            clips.append(x)
+    out = {k: [] for k in ("z0", "zc", "style", "traj", "length") + (("style_window",) if windows else ())}
+    dev = vae.mean.device
+    for start in range(0, len(clips), batch_size):
+        part = clips[start:start + batch_size]
+        x, mask = pad_batch(part)
+        x, mask = x.to(dev), mask.to(dev)
+        xc = x.clone()
+        xc[..., TRAJ] = 0.0  # FIELD_FACTS: the content condition sees no trajectory
+        win = torch.stack([_window(c, STYLE_WINDOW) for c in part]).to(dev)
+        out["z0"].append(vae.encode(x, mask).cpu())
+        out["zc"].append(vae.encode(xc, mask).cpu())
+        out["style"].append(extractor(win).cpu() if extractor is not None else torch.zeros(len(part), 1))
+        tr = torch.zeros(len(part), L, 3)
+        tr[:, :x.shape[1]] = x[..., TRAJ].cpu() * mask[..., None].cpu()
+        out["traj"].append(tr)
+        out["length"].append(mask.sum(1).cpu())
+        if windows:
+            out["style_window"].append(win.cpu())
+    return {k: torch.cat(v) for k, v in out.items()}
+
+
+class TensorSet(Dataset):
+    """Rows of a dict of equally long tensors."""
+
+    def __init__(self, tensors: dict):
+        self.t = tensors
+        self.n = len(next(iter(tensors.values())))
+
+    def __len__(self):
+        return self.n
+
+    def __getitem__(self, i):
+        return {k: v[i] for k, v in self.t.items()}
+
+
+# ---------------------------------------------------------------- transfer
+class Transfer:
+    """Content + style raw features → stylised raw features, by DDIM with CFG from the content's conditions."""
+
+    def __init__(self, model: MCMLDM, vae: MotionVAE, extractor, device="cpu"):
+        self.model, self.vae, self.extractor, self.device = model.eval(), vae.eval(), extractor, torch.device(device)
+
+    def _norm(self, raw) -> torch.Tensor:
+        return self.vae.normalize(torch.as_tensor(np.asarray(raw), dtype=torch.float32, device=self.device))
+
+    @torch.no_grad()
+    def style_embedding(self, style_raw) -> torch.Tensor:
+        """(1, S) style embedding of a raw style clip (pre-trained extractor, or the model's own in the ablation)."""
+        s = self._norm(style_raw)[None, : self.vae.cfg.max_len]
+        enc = self.model.style_net if self.model.style_net is not None else self.extractor
+        return enc(s)
+
+    @torch.no_grad()
+    def conditions(self, content_raw, style_raw) -> tuple:
+        """(cond dict, null style, length) for one content clip of ≤ max_len rows."""
+        x = self._norm(content_raw)[None]  # (1, T, 263)
+        xc = x.clone()
+        xc[..., TRAJ] = 0.0
+        zc = self.vae.encode(xc)
+        mask = torch.ones(1, x.shape[1], dtype=torch.bool, device=self.device)
+        style = self.style_embedding(style_raw)
+        cond = self.model.conditions(zc, style, x[..., TRAJ], mask)
+        null = self.model.style_proj(torch.zeros_like(style))  # the projected null style
+        return cond, null, x.shape[1]
+
+    @torch.no_grad()
+    def __call__(self, content_raw, style_raw, scale: float | None = None, steps: int | None = None,
+                 seed: int = 0, copy_traj: bool = False, callback=None) -> np.ndarray:
+        """(T, 263) raw content, (S, 263) raw style → (T, 263) raw output; `copy_traj` pastes the content's
+        root velocities over the generated ones (the "copied trajectory" baseline)."""
+        content_raw = np.asarray(content_raw, np.float64)
+        if content_raw.ndim != 2 or content_raw.shape[1] != 263 or len(content_raw) < 2:
+            raise ValueError(f"content_raw: expected (T, 263) features with T ≥ 2, got {content_raw.shape}")
+        L = self.vae.cfg.max_len
+        pieces = []
+        for start in range(0, len(content_raw), L):  # longer clips: independent chunks of max_len rows
+            chunk = content_raw[start:start + L]
+            cond, null, T = self.conditions(chunk, style_raw)
+            g = torch.Generator().manual_seed(int(seed))
+            z = self.model.sample(cond, null, (1, self.model.n, self.model.d), scale, steps, g, callback)
+            out = self.vae.decode_raw(z, [T])[0]
+            if copy_traj:
+                out[:, TRAJ] = chunk[:, TRAJ]
+            pieces.append(out)
+        return np.concatenate(pieces)
+
+
+def load_mcm_ldm(path=None, device="cpu", vae_path=None, style_path=None) -> Transfer:
+    """The transfer function of a checkpoint (default: the packaged course ones)."""
+    path = course_path(NAME) if path is None else path
+    blob = read_checkpoint(path, NAME)
+    c = blob["config"]
+    model = MCMLDM(MCMConfig.from_dict(c), c["latent_tokens"], c["latent_dim"], c["style_dim"], c.get("style_cfg"))
+    load_state(path, model, NAME)
+    vae = load_vae(vae_path, device)
+    extractor = SE.load_style_extractor(style_path, device) if model.style_net is None else None
+    return Transfer(model.to(device), vae, extractor, device)
+
+
+# ---------------------------------------------------------------- training
+def train_mcm(cfg: MCMConfig, train: dict, val: dict | None, vae: MotionVAE, style_cfg: dict, seed=0, out=None,
+              device="cpu", resume=None, progress=True) -> tuple:
+    """Fit a denoiser on prepared tensors (build_tensors); returns (model, history)."""
+    style_dim = style_cfg["out_dim"]
+    model = MCMLDM(cfg, vae.cfg.latent_tokens, vae.cfg.latent_dim, style_dim, style_cfg)
+    tc = TrainConfig(steps=cfg.steps, batch_size=cfg.batch_size, lr=cfg.lr, warmup_steps=min(200, cfg.steps // 10),
+                     val_every=max(1, cfg.steps // 5), seed=seed)
+    val_set = None  # the denoising loss on held-out clips is noisy and says little about transfer
+    history = fit(model, TensorSet(train), tc, val_set, model_name=NAME, out=out, resume=resume, device=device,
+                  progress=progress)
+    return model.eval(), history
+
+
+def prepare(content, style, device="cpu", windows: bool = False, views: int = 2) -> tuple:
+    """(vae, extractor, style config dict, train tensors) from the packaged VAE and style extractor."""
+    vae = load_vae(device=device)
+    extractor = SE.load_style_extractor(device=device)
+    style_cfg = asdict(extractor.cfg)
+    return vae, extractor, style_cfg, build_tensors(vae, extractor, content, style, "train", views=views,
+                                                    windows=windows)
+
+
+def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True,
+        overrides: dict | None = None, prepared: tuple | None = None) -> dict:
+    """Train MCM-LDM on the frozen VAE latents and style embeddings; `overrides` sets config switches."""
+    cfg = MCMConfig.preset(preset)
+    for k, v in (overrides or {}).items():
+        if not hasattr(cfg, k):
+            raise ValueError(f"overrides: unknown MCMConfig field {k!r}")
+        setattr(cfg, k, v)
+    if steps:
+        cfg.steps = int(steps)
+    out = course_path(NAME) if out is None else out
+    vae, extractor, style_cfg, train = prepared or prepare(content, style, device, windows=not cfg.pretrained_style)
+    model, history = train_mcm(cfg, train, None, vae, style_cfg, seed, out, device, resume, progress)
+    return {"model": NAME, "out": str(out), "steps": history["step"][-1] if history["step"] else 0,
+            "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
+            "final_loss": round(float(np.mean(history["train"]["loss"][-50:])), 4)}
+
+
+TRAINABLE = {NAME: run, SE.NAME: SE.run}
+
+# The bench's registry is the one piece of mslib.evaluation this module touches (as in adain.py): it
+# hands the bench a transfer function; the model never sees the evaluator or its features.
+from .registry import register  # noqa: E402
+
+
+@register(NAME, "B: latent diffusion with content/style/trajectory conditions, DDIM 50, CFG λ=2.5")
+def _bench_factory(device="cpu"):
+    tr = load_mcm_ldm(device=device)
+    return lambda content, style: decode_positions(tr(content["features"], style["features"]))

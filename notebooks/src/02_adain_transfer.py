@@ -1,0 +1,250 @@
+# %% [markdown]
+# # 02 · AdaIN style transfer with dual-path training (paper A, stage 1)
+#
+# Paper A transfers a style by *statistics*: a content motion is encoded into a feature map over
+# time, a style motion into another, and Adaptive Instance Normalisation (AdaIN) gives the content's
+# features the per-channel mean and spread of the style's. A decoder turns the result back into
+# motion. Content comes from one dataset (HumanML3D-shaped), style from another (the retargeted mocap
+# of notebook 01): a *cross-dataset* transfer (A §4.1).
+#
+# **What you will learn**
+# - what AdaIN does to a feature map (A Eq. 2), and its mean-only and variance-only halves;
+# - the two training paths — self-reconstruction and stylization — and their losses (A Eq. 3–5);
+# - how a short training run behaves on train and validation (A Table 1);
+# - one content in all eight styles, and where A's "dynamic" and "static" noise come from (A Fig. 2);
+# - how the method scores on the benchmark against the two reference rows.
+
+# %%
+import mslib
+mslib.setup_notebook(seed=0)
+
+import numpy as np
+import torch
+import matplotlib.pyplot as plt
+from IPython.display import HTML
+
+from mslib import viz
+from mslib.checkpoints import course_path
+from mslib.data.corpora import load_builtin
+from mslib.data.datasets import ContentClips, StyleClips
+from mslib.data.styles import STYLES
+from mslib.models import adain as A
+from mslib.models.layers import adain, channel_stats
+from mslib.motion.features import decode
+from mslib.training import TrainConfig
+
+paths = load_builtin(progress=False)
+
+# %% [markdown]
+# ## 1. AdaIN on a toy feature map
+# Take a feature map $x$ of shape (time × channels). Per channel, its mean $\mu(x)$ and standard
+# deviation $\sigma(x)$ over time are the "statistics". AdaIN (A Eq. 2) whitens the content's channels
+# and re-colours them with the style's:
+#
+# $$\mathrm{AdaIN}(C_c, C_s) = \sigma(C_s)\,\frac{C_c - \mu(C_c)}{\sigma(C_c)} + \mu(C_s).$$
+#
+# The *shape* of each channel over time (when it rises and falls) stays the content's; its level and
+# amplitude become the style's. Switching off one half gives **mean-only** (shift, keep the content's
+# spread) and **variance-only** (rescale, keep the content's level) transfer.
+
+# %%
+t = torch.linspace(0, 2 * np.pi, 60)
+toy_content = torch.stack([torch.sin(t), 0.3 * torch.cos(2 * t) + 1.0], -1)[None]      # (1, 60, 2)
+toy_style = torch.stack([0.2 * torch.sin(5 * t) - 1.5, 2.0 * torch.sin(t + 1)], -1)[None]  # (1, 60, 2)
+mu_s, sig_s = channel_stats(toy_style)
+variants = {"content": toy_content, "style": toy_style,
+            "AdaIN (full)": adain(toy_content, mu_s, sig_s),
+            "mean only": adain(toy_content, mu_s, sig_s, use_std=False),
+            "variance only": adain(toy_content, mu_s, sig_s, use_mean=False)}
+print(f"{'':<14} {'mu ch0':>7} {'mu ch1':>7} {'sigma ch0':>9} {'sigma ch1':>9}")
+for name, x in variants.items():
+    mu, sig = channel_stats(x)
+    print(f"{name:<14} {mu[0, 0, 0]:>7.2f} {mu[0, 0, 1]:>7.2f} {sig[0, 0, 0]:>9.2f} {sig[0, 0, 1]:>9.2f}")
+fig, axes = plt.subplots(1, 2, figsize=(9, 2.6), sharex=True)
+for ch, ax in enumerate(axes):
+    for name, x in variants.items():
+        ax.plot(x[0, :, ch].numpy(), label=name, lw=2 if name.startswith("AdaIN") else 1,
+                ls="--" if name in ("content", "style") else "-")
+    ax.set_title(f"channel {ch}")
+axes[1].legend(fontsize=7, loc="upper right")
+fig.tight_layout()
+_ = fig
+
+# %% [markdown]
+# The full transfer's statistics are exactly the style's; mean-only keeps the content's σ, and
+# variance-only keeps the content's μ. The curve shapes are the content's in every case.
+#
+# ## 2. The model and its two training paths
+# - **Content encoder** $E_c$: residual 1-D convolutions over the *normalised 263-d* features of the
+#   content motion (A §4.1.1: rotations, root velocity and foot contacts describe content well).
+# - **Style encoder** $E_s$: a small transformer over the style motion's **joint positions** (T×22×3,
+#   the root's path removed), because positions carry posture cues (A §3.2.1, §4.1.1).
+# - **AdaIN** on the channel statistics over time, then a **decoder** back to 263-d. The output keeps
+#   the content's root trajectory (dims 0..3): where the body goes is content, how it moves is style.
+#
+# Training runs two paths on every batch (A §3.2.2):
+#
+# | path | AdaIN input | loss |
+# |---|---|---|
+# | self-reconstruction | content code + the content's *own* style statistics | $\mathcal{L}_{content} = \lVert P_{c\to c} - P_c\rVert_1$ (A Eq. 4) |
+# | stylization | content code + a style clip's statistics | $\mathcal{L}_{style} = \lVert\mu(C_{c\to s})-\mu(C_s)\rVert_2^2 + \lVert\sigma(C_{c\to s})-\sigma(C_s)\rVert_2^2$ (A Eq. 3) |
+#
+# with $C_{c\to s}$ the style encoder's features *of the stylized motion*, and the total
+# $\mathcal{L} = \lambda_{style}\mathcal{L}_{style} + \lambda_{content}\mathcal{L}_{content}$ (A Eq. 5).
+# The style clips come from the retargeted mocap corpus, the content clips from the content corpus.
+# The workbook also runs the self-reconstruction path on the style clips (`style_recon`), so the
+# decoder learns what the mocap styles' poses look like.
+
+# %%
+def box(ax, xy, text, color):
+    ax.text(*xy, text, ha="center", va="center", fontsize=8,
+            bbox=dict(boxstyle="round,pad=0.4", fc=color, ec="0.3"))
+
+def arrow(ax, a, b, color="0.3"):
+    ax.annotate("", xy=b, xytext=a, arrowprops=dict(arrowstyle="->", color=color, lw=1.2))
+
+fig, ax = plt.subplots(figsize=(9, 3.4))
+ax.set_xlim(0, 10); ax.set_ylim(0, 4); ax.axis("off")
+box(ax, (0.9, 3.2), "content $P_c$\n263-d", "#cfe2ff"); box(ax, (0.9, 0.8), "style $P_s$\nT×22×3", "#ffd8b1")
+box(ax, (2.9, 3.2), "$E_c$ (conv)", "#e7f1ff"); box(ax, (2.9, 0.8), "$E_s$ (transformer)", "#fff0e0")
+box(ax, (2.9, 2.0), "$E_s(P_c)$", "#fff0e0")
+box(ax, (5.0, 3.2), "AdaIN($C_c$, $\\mu,\\sigma$ of $P_c$)", "#e8f5e9")
+box(ax, (5.0, 0.8), "AdaIN($C_c$, $\\mu,\\sigma$ of $C_s$)", "#e8f5e9")
+box(ax, (7.0, 3.2), "decoder → $P_{c\\to c}$", "#f3e5f5"); box(ax, (7.0, 0.8), "decoder → $P_{c\\to s}$", "#f3e5f5")
+box(ax, (9.0, 3.2), "$\\mathcal{L}_{content}$\nvs $P_c$", "white"); box(ax, (9.0, 0.8), "$\\mathcal{L}_{style}$\n$E_s(P_{c\\to s})$ vs $C_s$", "white")
+for a, b in (((1.5, 3.2), (2.3, 3.2)), ((1.5, 0.8), (2.2, 0.8)), ((1.3, 2.9), (2.5, 2.1)), ((3.5, 3.2), (3.7, 3.2)),
+             ((3.4, 2.1), (4.0, 3.0)), ((3.4, 3.0), (3.9, 1.0)), ((3.7, 0.8), (3.75, 0.8)), ((6.3, 3.2), (6.2, 3.2)),
+             ((6.3, 0.8), (6.2, 0.8)), ((7.9, 3.2), (8.4, 3.2)), ((7.9, 0.8), (8.2, 0.8))):
+    arrow(ax, a, b)
+ax.text(5.0, 3.85, "self-reconstruction path", ha="center", fontsize=9, weight="bold")
+ax.text(5.0, 0.1, "stylization path (style clips from the other corpus)", ha="center", fontsize=9, weight="bold")
+_ = fig
+
+# %% [markdown]
+# ## 3. A live training run
+# A short run with the course model's sizes and a fixed number of steps, logging both losses on the
+# training batches and on held-out validation clips (content clips of the val split paired with style
+# clips of the style corpus's val split). Both fall; the style loss falls much faster, as in A Table 1.
+
+# %%
+cfg, _ = A.PRESETS["course"]
+live_cfg = TrainConfig(steps=80, batch_size=16, lr=2e-3, warmup_steps=10, val_every=20, val_batches=2)
+live_model, live = A.train_adain("course", paths["content"], paths["style"], seed=0, progress=False,
+                                 train_config=live_cfg)
+for key in ("content", "style"):
+    tr = live["train"][key]
+    print(f"L_{key:<8} train {np.mean(tr[:10]):.2f} → {np.mean(tr[-10:]):.2f}   "
+          f"val {live['val'][key][0]:.2f} → {live['val'][key][-1]:.2f}")
+fig, axes = plt.subplots(1, 2, figsize=(9, 2.6))
+for ax, key in zip(axes, ("content", "style")):
+    ax.plot(live["step"], live["train"][key], lw=0.8, alpha=0.6, label="train")
+    ax.plot(live["val_step"], live["val"][key], "o-", label="validation")
+    ax.set_title(f"$\\mathcal{{L}}_{{{key}}}$"); ax.set_xlabel("step"); ax.set_yscale("log"); ax.legend(fontsize=7)
+fig.tight_layout()
+_ = fig
+
+# %% [markdown]
+# ## 4. The course checkpoint
+# The packaged model was trained by `python -m mslib train adain --preset course --seed 0` (a few
+# minutes on two CPU cores). Its history travels with it: the final validation content loss stays
+# close to the training one, so the model reconstructs unseen clips as well as seen ones.
+
+# %%
+if course_path("adain").is_file():
+    model = A.load_adain()
+else:  # no packaged checkpoint: train it now (a few minutes)
+    model, _ = A.train_adain("course", paths["content"], paths["style"], seed=0, out=course_path("adain"))
+    model = A.load_adain()
+from mslib.checkpoints import read_checkpoint
+hist = read_checkpoint(course_path("adain"), "adain")["extra"]["history"]
+train_c = np.mean(hist["train"]["content"][-50:])
+print(f"steps {hist['step'][-1]}")
+print(f"L_content  train {train_c:.3f}  val {hist['val']['content'][-1]:.3f}  "
+      f"(val/train {hist['val']['content'][-1] / train_c:.2f})")
+print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist['val']['style'][-1]:.4f}")
+
+# %% [markdown]
+# ## 5. One content motion in all eight styles
+# A walk from the content corpus's test split, transferred with one test clip of each style from the
+# style corpus. Each style clip is only 32 frames; its statistics are enough.
+
+# %%
+content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
+style_test = StyleClips(paths["style"], "test", normalize=False)
+walk = next(content_test[i] for i in range(len(content_test)) if content_test[i]["content"] == "walk")
+style_items = {s: next(style_test[i] for i in range(len(style_test)) if style_test[i]["style"] == s) for s in STYLES}
+c_feat = walk["features"].numpy().astype(np.float64)
+outputs = {s: model.transfer(c_feat, it["features"].numpy()) for s, it in style_items.items()}
+fig = viz.plot_strip([walk["joints"].numpy()] + [outputs[s] for s in STYLES], n_frames=5,
+                     row_labels=["content"] + list(STYLES))
+_ = fig
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+HTML(viz.animation_html([walk["joints"].numpy()] + [outputs[s] for s in ("angry", "depressed", "old", "proud")],
+                        titles=["content", "angry", "depressed", "old", "proud"], max_frames=40, view="side"))
+
+# %% [markdown]
+# ## 6. Dynamic and static noise: A Fig. 2
+# AdaIN moves two statistics. Paper A's Fig. 2 shows what each half does on its own: **variance-only**
+# transfer rescales the content's fluctuations and carries the *dynamic noise* (shaking, jitter);
+# **mean-only** transfer shifts the average pose and carries the *static noise* (a limb held at a
+# wrong angle, an offset from the content). We measure both on 40 benchmark pairs:
+# - **jitter**: the mean joint acceleration (m/s²), $\frac{1}{T\cdot 22}\sum_{t,j}\lVert p_{t+1,j}-2p_{t,j}+p_{t-1,j}\rVert\cdot f^2$;
+# - **pose offset**: the mean joint distance (m) to the content motion.
+
+# %%
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+from mslib.evaluation.metrics import jitter, pose_offset
+
+pairs = load_pairs(seed=0, n_pairs=200)
+modes = {"full": (True, True), "variance only": (False, True), "mean only": (True, False)}
+fig2 = {name: [] for name in ("content",) + tuple(modes)}
+for c, s in pairs[:40]:
+    fig2["content"].append((jitter(c["joints"]), 0.0))
+    for name, (use_mean, use_std) in modes.items():
+        out = model.transfer(c["features"], s["features"], use_mean=use_mean, use_std=use_std)
+        fig2[name].append((jitter(out), pose_offset(out, c["joints"])))
+print(f"{'transfer':<14} {'jitter m/s²':>11} {'pose offset m':>13}")
+for name, vals in fig2.items():
+    j, o = np.mean(vals, 0)
+    print(f"{name:<14} {j:>11.2f} {o:>13.3f}")
+
+# %%
+c, s = pairs[3]
+rows = [c["joints"], decode(s["features"])] + [model.transfer(c["features"], s["features"], use_mean=m, use_std=v)
+                                              for m, v in modes.values()]
+fig = viz.plot_strip(rows, n_frames=5, row_labels=["content", f"style ({s['style']})"] + list(modes))
+_ = fig
+
+# %% [markdown]
+# Read the table with A Fig. 2 in mind: the variance-only row is the one whose jitter moves away from
+# the content's (the dynamic noise it brings), the mean-only row the one that carries most of the pose
+# offset (the static noise). The full transfer inherits both — which is what stage 2 (notebook 05)
+# corrects.
+#
+# ## 7. On the benchmark
+# The same 200 held-out pairs every method meets (notebook 07), scored by the independent evaluator:
+# content accuracy (CRA), style accuracy (SRA) and their harmonic mean H.
+
+# %%
+evaluator = Evaluator()
+rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("adain", "identity", "copy_style")]
+print(format_table(rows, notebook=True))
+
+# %% [markdown]
+# ## Exercise: mean-only AdaIN by hand
+# Write `mean_only(x, style_mu)` for a (B, T, C) feature map: keep every channel's spread and shape,
+# move its mean over time to `style_mu` (B, 1, C). Use only tensor operations (no `adain`).
+
+# %%
+def mean_only(x, style_mu):
+    return x - x.mean(1, keepdim=True) + style_mu
+
+# %%
+# check
+x = torch.randn(2, 30, 5) * 3 + 1
+s_mu = torch.randn(2, 1, 5)
+assert torch.allclose(mean_only(x, s_mu), adain(x, s_mu, torch.ones_like(s_mu), use_std=False), atol=1e-5)
+assert torch.allclose(mean_only(x, s_mu).mean(1, keepdim=True), s_mu, atol=1e-5)
+print("mean_only matches AdaIN's mean-only switch")

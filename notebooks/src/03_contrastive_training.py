@@ -1,0 +1,290 @@
+# %% [markdown]
+# # 03 · Contrastive disentanglement: style transfer without labels (paper C)
+#
+# Paper C splits a motion into a **content code** (a tensor over time, h × t) and a **style code** (one
+# vector), and builds a stylised motion by decoding the content code of a *target* motion with the
+# style code of a *source* motion. Nothing tells the network which style a clip has: the pressure to
+# separate content from style comes from two contrastive losses whose positives and negatives are
+# drawn **inside the training pair itself**.
+#
+# **What you will learn**
+# - the encoders E_c, E_s and the AdaIN generator G, and how a transfer is composed;
+# - the five terms of C Eq. 1–5, each in maths beside the code that computes it, and why the
+#   InfoNCE negatives are *other time steps of the same motion*;
+# - training with two optimisers (generator side and discriminator) in the workbook's one loop;
+# - C's findings measured: style-code clusters with and without the contrastive terms (C Fig. 2),
+#   the β sweep (C Table 1), style interpolation (C Fig. 10–11) and an unseen style (C Fig. 3);
+# - the benchmark row of the course model next to the two reference rows.
+
+# %%
+import mslib
+mslib.setup_notebook(seed=0)
+
+import numpy as np
+import torch
+import matplotlib.pyplot as plt
+from IPython.display import HTML
+
+from mslib import viz
+from mslib.checkpoints import course_path, read_checkpoint
+from mslib.data.corpora import load_builtin
+from mslib.data.styles import STYLES
+from mslib.models import contrastive as C
+from mslib.models import contrastive_analysis as CA
+from mslib.motion.features import decode
+
+paths = load_builtin(seed=0, progress=False)
+cfg = C.ContrastiveConfig.preset("course")
+print({k: getattr(cfg, k) for k in ("hidden", "style_dim", "down", "alpha", "beta", "gamma", "margin", "crop")})
+
+# %% [markdown]
+# ## 1. Two encoders and a generator
+# - **E_c**: 3 Conv1d layers (the first with stride 2) and 3 residual blocks, then instance
+#   normalisation over time → content code $E_c(M) \in \mathbb{R}^{h \times t}$, $t = T/2$;
+# - **E_s**: 3 Conv1d layers and 3 residual blocks, averaged over time → style code
+#   $E_s(M) \in \mathbb{R}^{l}$;
+# - **G**: 4 residual blocks whose normalisations are AdaIN with a scale and shift predicted from the
+#   style code, then back to T frames and 263 numbers per frame;
+# - **D**: an MLP that scores windows of 4 frames (root height and root-relative joints, the numbers
+#   the output positions are decoded from) as real or generated.
+#
+# One addition for the course preset (`content_skip=True`, off in the `paper` preset): G's output is
+# added to the target's own movement around its time mean, $x - \mu_t(x)$. G then has to supply the
+# posture (the time mean, which the instance-normalised content code cannot carry) and any change of
+# the movement — which is what style is — and a few CPU minutes suffice to train it.
+#
+# A transfer is $M^G = G\big(E_c(M^T) \,\big|\, E_s(M^S)\big)$: content from the target $M^T$, style from
+# the source $M^S$. The training pairs are a random content-corpus clip ($M^T$) and a random
+# style-corpus clip ($M^S$), 32 frames each (31 feature rows) — **no labels are read**.
+
+# %%
+torch.manual_seed(0)
+model0 = C.ContrastiveModel(cfg).eval()
+data = C.PairedClips(paths["content"], paths["style"], "val", crop=cfg.crop)
+np.random.seed(0)
+batch = torch.utils.data.default_collate([data[i] for i in range(4)])
+target, source = batch["target"], batch["source"]
+with torch.no_grad():
+    c_t, s_s = model0.encode_content(target), model0.encode_style(source)
+    fake = model0.generate(c_t, s_s, target.shape[1], target)
+print("M^T", tuple(target.shape), "→ E_c", tuple(c_t.shape), "| M^S", tuple(source.shape), "→ E_s", tuple(s_s.shape))
+print("M^G = G(E_c(M^T) | E_s(M^S))", tuple(fake.shape), "| D(M^G)", tuple(model0.discriminator(fake).shape))
+n_params = {name: sum(p.numel() for p in getattr(model0, name).parameters())
+            for name in ("content_encoder", "style_encoder", "generator", "discriminator")}
+print("parameters:", n_params)
+
+# %% [markdown]
+# ## 2. The losses, one by one
+# **C Eq. 1 — reconstruction.** Each input must come back from its own two codes:
+# $\mathcal{L}_{rec} = \mathbb{E}\,\|G(E_c(M^S)|E_s(M^S)) - M^S\| + \mathbb{E}\,\|G(E_c(M^T)|E_s(M^T)) - M^T\|$.
+# We average the per-frame Euclidean distance and divide by $\sqrt{263}$ so that it is of order 1 like
+# the other terms (`C.reconstruction_loss`).
+#
+# **C Eq. 2 — adversarial.** The paper writes the original minimax GAN loss. Its generator term
+# $\log(1 - D(M^G))$ saturates when D wins, so we use the **non-saturating** form: D minimises
+# $-\log\sigma(D(M^S)) - \log(1-\sigma(D(M^G)))$, G minimises $-\log\sigma(D(M^G))$ (`C.adversarial_losses`).
+
+# %%
+x = torch.zeros(2, 5, 4)
+print("rec of an error of 3 in every number:", round(C.reconstruction_loss(x + 3, x).item(), 3))
+d_loss, g_loss = C.adversarial_losses(torch.zeros(3), torch.zeros(3))
+print("an undecided D (logit 0): D loss", round(d_loss.item(), 3), "= 2 log 2, G loss", round(g_loss.item(), 3), "= log 2")
+
+# %% [markdown]
+# **C Eq. 3 — InfoNCE on content codes, with negatives from inside one motion.** Take time step $i$
+# of the generated motion's content code as the query $q = E_c(M^G)_{:,i}$. Its positive is the same
+# step of the target's code, $k^+ = E_c(M^T)_{:,i}$; its negatives are the **other steps of the same
+# target**, $k^-_j = E_c(M^T)_{:,j}$, $j \ne i$ — a motion's own other moments are the hardest things
+# to confuse it with, and no label is needed to pick them. The score is bilinear, $f(q,k) = q^\top W k$
+# (divided by $\sqrt h$), with a learned $W$:
+#
+# $$\mathcal{L}_{nce} = -\,\mathbb{E}\Big[\log \frac{\exp f(q,k^+)}{\exp f(q,k^+) + \sum_{j} \exp f(q,k^-_j)}\Big].$$
+#
+# (The paper's typeset denominator omits the positive; we keep the usual CPC form, so the loss is
+# ≥ 0.) Every step is a query in turn, so the scores form a $t \times t$ matrix per motion whose
+# diagonal holds the positives: InfoNCE is a cross-entropy that asks each row to pick its diagonal.
+
+# %%
+t = c_t.shape[-1]
+i = 5
+print(f"one motion: t = {t} steps → query step {i}: 1 positive (step {i}), {t - 1} negatives (the other steps)")
+W = torch.eye(cfg.hidden)
+same = C.info_nce(c_t, c_t, W).item()
+other = C.info_nce(c_t, c_t[torch.randperm(4)], W).item()
+print(f"untrained E_c: InfoNCE(query = the target itself) {same:.2f} < (a different motion's steps) {other:.2f}; log t = {np.log(t):.2f}")
+
+# %% [markdown]
+# **C Eq. 4 — triplet on style codes.** The generated motion should carry the source's style and not
+# the target's: query $q = E_s(M^G)$, positive $k^+ = E_s(M^S)$, negative $k^- = E_s(M^T)$, margin
+# $\lambda = 1$:
+# $$\mathcal{L}_{tri} = \mathbb{E}\big[\|q - k^+\| - \|q - k^-\| + \lambda\big]_+ .$$
+#
+# **C Eq. 5 — total.** $\mathcal{L} = \mathcal{L}_{rec} + \alpha\mathcal{L}_{gan} + \beta\mathcal{L}_{nce}
+# + \gamma\mathcal{L}_{tri}$ with α = 1, β = 0.3, γ = 0.3.
+
+# %%
+q = torch.zeros(1, 3)
+for neg in ([2.0, 0, 0], [0.5, 0, 0]):
+    print(f"q = k+ = 0, k− at distance {np.linalg.norm(neg):.1f}: triplet {C.triplet_loss(q, q, torch.tensor([neg])).item():.2f}")
+logs = model0.training_step({"target": target, "source": source})
+print({k: round(float(v), 2) for k, v in logs.items()})
+
+# %% [markdown]
+# ## 3. Two optimisers in one loop
+# The generator side (E_c, E_s, G, W) is optimised by the workbook's one loop, `mslib.training.fit`,
+# given `parameters=model.generator_parameters()`. The discriminator has its **own** Adam, owned by the
+# model: inside `training_step` it first takes one step on $M^S$ (real) against a *detached* $M^G$
+# (fake), then the generator-side loss is returned to the loop. A short live run (fixed 40 steps):
+
+# %%
+torch.manual_seed(0)
+live_cfg = C.ContrastiveConfig.preset("course", steps=40, batch_size=16)
+live, live_hist = C.train(live_cfg, paths["content"], paths["style"], seed=0, progress=False, val=False)
+tr = live_hist["train"]
+for k in ("rec", "nce", "tri"):
+    print(f"{k:>4}: first 5 steps {np.mean(tr[k][:5]):.2f} → last 5 steps {np.mean(tr[k][-5:]):.2f}")
+
+# %% [markdown]
+# ## 4. The course checkpoint
+# The packaged model was trained by `python -m mslib train contrastive --preset course --seed 0`.
+# Its history is stored with the weights:
+
+# %%
+model = C.load()
+hist = read_checkpoint(course_path("contrastive"), "contrastive")["extra"]["history"]
+print("steps:", hist["step"][-1])
+fig = viz.plot_curves({k: hist["train"][k] for k in ("rec", "nce", "tri", "adv", "d")}, title="course run")
+_ = fig
+
+# %%
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+
+pairs = load_pairs(seed=0, n_pairs=200)
+shown = [pairs[k] for k in (1, 2, 4)]
+outs = [decode(model.transfer_features(c["features"], s["features"])) for c, s in shown]
+motions, titles = [], []
+for (c, s), o in zip(shown, outs):
+    motions += [c["joints"], s["joints"], o]
+    titles += [f"content: {c['content']}", f"style: {s['style']}", "transfer"]
+fig = viz.plot_strip(motions, n_frames=5, view="side", titles=titles)
+_ = fig
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+HTML(viz.animation_html([shown[0][0]["joints"], shown[0][1]["joints"], outs[0]],
+                        titles=titles[:3], max_frames=40))
+
+# %% [markdown]
+# ## 5. C's findings
+# The findings need several models trained the same way with one setting changed. Those short runs
+# (400 steps each) are too slow for a notebook, so they were made once by
+# `python -m mslib.models.contrastive_analysis` and stored next to the checkpoints
+# (`contrastive_findings.json`, `contrastive_findings.npz`: tables and held-out style codes). Every
+# number below is computed by `mslib.models.contrastive_analysis` from those files.
+
+# %%
+results, codes = CA.load_findings()
+labels = codes["labels"]
+print("short runs:", results["steps"], "steps each; held-out style clips:", len(labels))
+
+# %% [markdown]
+# ### (a) Style codes with and without the contrastive terms (C Fig. 2)
+# Held-out style-corpus clips through E_s, projected with t-SNE and coloured by their style label
+# (used only here, never in training). The silhouette score (−1 … 1, higher = tighter, better
+# separated clusters) is measured on the codes themselves, not on the 2-D picture.
+
+# %%
+fig, axes = plt.subplots(1, 2, figsize=(9, 4))
+for ax, key, name in zip(axes, ("codes_with", "codes_without"), ("with InfoNCE + triplet", "without (β = γ = 0)")):
+    xy = CA.tsne_2d(codes[key], seed=0)
+    for s in STYLES:
+        m = labels == s
+        ax.scatter(xy[m, 0], xy[m, 1], s=8, label=s)
+    ax.set_title(f"{name}: silhouette {CA.silhouette(codes[key], labels):.2f}")
+    ax.set_xticks([]); ax.set_yticks([])
+axes[1].legend(fontsize=7, markerscale=2, loc="best")
+fig.tight_layout()
+_ = fig
+print(f"silhouette with {results['silhouette_with']:.3f}, without {results['silhouette_without']:.3f}")
+
+# %% [markdown]
+# ### (b) The β sweep (C Table 1)
+# β weighs InfoNCE. C reports that raising β lowers the **content distance** (output vs content
+# motion) and raises the **style distance** (output vs style motion). Our distances, on 64 held-out
+# validation pairs, in the normalised root-relative joint block $x$ (dims 4:67): content distance
+# $= \frac{1}{T}\sum_t \|x_{out}(t) - x_{content}(t)\|/\sqrt{63}$; style distance
+# $= \|\mathrm{Gram}(x_{out}) - \mathrm{Gram}(x_{style})\|_F / 63$ with $\mathrm{Gram}(x) = x^\top x / T$
+# (Gatys et al.'s style statistic, on features instead of network layers).
+
+# %%
+print(f"{'beta':>5} {'content dist':>13} {'style dist':>11} {'silhouette':>11}")
+for row in results["sweep"]:
+    print(f"{row['beta']:>5.1f} {row['content_distance']:>13.3f} {row['style_distance']:>11.3f} {row['silhouette']:>11.3f}")
+
+# %% [markdown]
+# ### (c) Style interpolation (C Fig. 10–11)
+# Because the style is one vector, we can mix two: $G\big(E_c(M^T) \,|\, (1-w)E_s(M^{S_1}) + wE_s(M^{S_2})\big)$
+# for $w = 0, 0.3, 0.6, 1$.
+
+# %%
+style_test = C.MotionFolder(paths["style"], "test", normalize=False, labels=("style", "content"))
+pick = {s: next(i for i, r in enumerate(style_test.rows) if r["style"] == s and r["content"] == "walk")
+        for s in ("depressed", "proud")}
+walk = next(c for c, _ in pairs if c["content"] == "walk")
+weights = (0.0, 0.3, 0.6, 1.0)
+strip = CA.interpolate_styles(model, walk["features"], style_test._arrays(pick["depressed"])[0],
+                              style_test._arrays(pick["proud"])[0], weights)
+fig = viz.plot_strip(strip, n_frames=5, view="side", titles=[f"depressed → proud, w = {w}" for w in weights])
+_ = fig
+heights = [float(np.mean(m[:, 15, 1] - m[:, 0, 1])) for m in strip]
+print("head above pelvis (m):", [round(h, 2) for h in heights])
+
+# %% [markdown]
+# ### (d) An unseen style (C Fig. 3)
+# A model trained with every *depressed* clip left out of its data still places the held-out depressed
+# clips together. Per-style silhouettes and the fraction of depressed codes whose nearest neighbour is
+# also depressed (chance = its share of the clips):
+
+# %%
+u = results["unseen"]
+xy = CA.tsne_2d(codes["codes_unseen"], seed=0)
+fig, ax = plt.subplots(figsize=(5, 4))
+for s in STYLES:
+    m = labels == s
+    ax.scatter(xy[m, 0], xy[m, 1], s=8 if s != "depressed" else 16, label=s + (" (unseen)" if s == "depressed" else ""),
+               marker="o" if s != "depressed" else "x")
+ax.set_xticks([]); ax.set_yticks([]); ax.set_title("trained without depressed")
+ax.legend(fontsize=7, markerscale=2)
+_ = fig
+print("per-style silhouette:", {k: round(v, 2) for k, v in u["per_style"].items()})
+print(f"depressed: nearest-neighbour purity {u['unseen_nn_purity']:.2f} (chance {u['chance_nn_purity']:.2f})")
+
+# %% [markdown]
+# ## 6. The benchmark
+# The course model on the 200 held-out pairs of the default draw, next to the two reference rows
+# (identity: all content; copy_style: all style). H is the harmonic mean of CRA and SRA.
+
+# %%
+evaluator = Evaluator()
+rows = [run_bench(m, seed=0, n_pairs=200, pairs=pairs, evaluator=evaluator) for m in ("identity", "copy_style", "contrastive")]
+print(format_table(rows, notebook=True))
+
+# %% [markdown]
+# ## Exercise
+# Compute the InfoNCE loss of C Eq. 3 **by hand** (numpy only) for one motion whose content code has
+# t = 3 steps, with W = I and h = 2. Store it in `answer`.
+#
+# query steps `Q` (h × t) and target steps `K` (h × t) are given below.
+
+# %%
+Q = np.array([[1.0, 0.0, 2.0], [0.0, 1.0, 0.0]])
+K = np.array([[1.0, 0.5, 1.0], [0.0, 1.0, 1.0]])
+# your code here: answer = ...
+S = Q.T @ K / np.sqrt(2)                       # f(q_i, k_j), (t, t)
+answer = float(np.mean([-S[i, i] + np.log(np.exp(S[i]).sum()) for i in range(3)]))
+
+# %%
+# check cell
+expected = C.info_nce(torch.tensor(Q)[None], torch.tensor(K)[None], torch.eye(2, dtype=torch.float64)).item()
+assert abs(answer - expected) < 1e-6, "score every query step against every key step, then a softmax cross-entropy on the diagonal"
+print("correct:", round(answer, 4))

@@ -1,0 +1,110 @@
+"""Paper A stage 1 (AdaIN transfer): shapes, the statistics AdaIN moves, the two paths, the root
+trajectory kept, a tiny training run, the packaged checkpoint, and the bench bar."""
+import numpy as np
+import pytest
+import torch
+
+from mslib.checkpoints import course_path
+from mslib.models import adain as A
+from mslib.motion.features import decode, encode
+from mslib.training import TrainConfig
+
+TINY = A.AdainConfig(hidden=16, content_blocks=1, decoder_blocks=1, style_layers=1, heads=2, clip_frames=24)
+
+
+def _model(seed=0):
+    torch.manual_seed(seed)
+    return A.AdainTransfer(TINY, np.zeros(263), np.ones(263))
+
+
+def _features(n=40, seed=0):
+    from mslib.data.synth import generate_clip
+    return encode(generate_clip("walk", "neutral", seed=seed, index=0).positions)[:n].astype(np.float64)
+
+
+def test_shapes_and_root_path_from_the_content():
+    m = _model()
+    c, s = _features(40), _features(31, seed=1)
+    out = m.transfer_features(c, s)
+    assert out.shape == c.shape
+    np.testing.assert_allclose(out[:, :4], c[:, :4], atol=1e-5)  # dims 0..3 are the content's
+    pos = m.transfer(c, s)
+    assert pos.shape == (41, 22, 3)
+    np.testing.assert_allclose(pos[:, 0, [0, 2]], decode(c)[:, 0, [0, 2]], atol=1e-4)
+
+
+def test_pose_positions_match_decoded_joints_relative_to_the_root():
+    f = torch.as_tensor(_features(30), dtype=torch.float32)
+    p = A.pose_positions(f[None])[0]
+    assert p.shape == (30, 22, 3)
+    # frame 0 faces +Z with the root at the origin in XZ: decoded joints there equal the pose positions
+    np.testing.assert_allclose(p[0].numpy(), decode(f.double().numpy())[0], atol=1e-5)
+
+
+def test_adain_switches_move_the_stylized_code_statistics():
+    m = _model()
+    x = torch.randn(2, 30, 263)
+    s = torch.randn(2, 31, 263)
+    code = m.content_encoder(x)
+    mu_s, sig_s = A.channel_stats(m.style_encoder(A.pose_positions(s)))
+    mu_c, sig_c = A.channel_stats(code)
+    for use_mean, use_std, want_mu, want_sig in ((True, True, mu_s, sig_s), (True, False, mu_s, sig_c),
+                                                 (False, True, mu_c, sig_s)):
+        got_mu, got_sig = A.channel_stats(A.adain(code, mu_s, sig_s, use_mean=use_mean, use_std=use_std))
+        assert torch.allclose(got_mu, want_mu, atol=1e-4) and torch.allclose(got_sig, want_sig, atol=1e-3)
+    full = m(x, s)
+    mean_only = m(x, s, use_std=False)
+    assert not torch.allclose(full, mean_only)
+
+
+def test_losses_are_the_two_paths():
+    m = _model()
+    batch = {"content": {"features": torch.randn(3, 24, 263)}, "style": {"features": torch.randn(3, 31, 263)}}
+    logs = m.losses(batch)
+    assert set(logs) == {"loss", "content", "style"}
+    assert torch.isclose(logs["loss"], TINY.lambda_style * logs["style"] + TINY.lambda_content * logs["content"])
+    # the self-reconstruction path does not see the style clip
+    batch2 = {"content": batch["content"], "style": {"features": torch.randn(3, 31, 263)}}
+    assert torch.isclose(m.losses(batch2)["content"], logs["content"])
+    assert not torch.isclose(m.losses(batch2)["style"], logs["style"])
+
+
+def test_bad_input_names_the_argument():
+    m = _model()
+    with pytest.raises(ValueError, match="content_features"):
+        m.transfer_features(np.zeros((10, 7)), _features(31))
+    with pytest.raises(ValueError, match="preset"):
+        A.train_adain("huge", "x", "y")
+
+
+def test_tiny_training_lowers_both_losses(tmp_path):
+    from mslib.data.corpora import load_builtin
+    p = load_builtin(progress=False)
+    tcfg = TrainConfig(steps=30, batch_size=8, lr=3e-3, val_every=30, val_batches=1)
+    model, h = A.train_adain("course", p["content"], p["style"], seed=0, out=tmp_path / "a.pt", progress=False,
+                             config=TINY, train_config=tcfg)
+    first, last = np.mean(h["train"]["content"][:3]), np.mean(h["train"]["content"][-3:])
+    assert last < first
+    assert set(h["val"]) >= {"content", "style", "loss"}
+    again = A.load_adain(tmp_path / "a.pt")
+    c, s = _features(20), _features(31, seed=2)
+    np.testing.assert_allclose(again.transfer_features(c, s), model.transfer_features(c, s), atol=1e-5)
+
+
+@pytest.mark.skipif(not course_path("adain").is_file(), reason="course checkpoint not trained yet")
+def test_course_checkpoint_bars():
+    from mslib.checkpoints import read_checkpoint
+    blob = read_checkpoint(course_path("adain"), "adain")
+    h = blob["extra"]["history"]
+    train = np.mean(h["train"]["content"][-50:])
+    assert h["val"]["content"][-1] <= 1.25 * train  # validation content loss within 25% of training
+    assert course_path("adain").stat().st_size <= 4 * 2**20
+
+
+@pytest.mark.skipif(not course_path("adain").is_file(), reason="course checkpoint not trained yet")
+def test_bench_adain_beats_the_reference_rows():
+    from mslib.evaluation.bench import Evaluator, load_pairs, run_bench
+    pairs = load_pairs(0, 40)
+    ev = Evaluator()
+    rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("adain", "identity", "copy_style")}
+    assert rows["adain"]["h"] > max(rows["identity"]["h"], rows["copy_style"]["h"])

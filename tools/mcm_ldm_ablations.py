@@ -1,0 +1,83 @@
+"""Paper B Table 2 on the built-in data: short MCM-LDM runs with one switch flipped, and a λ sweep of the
+packaged model, scored by the independent evaluator on benchmark pairs; writes notebooks/data/04_ablations.json.
+
+    python tools/mcm_ldm_ablations.py [--steps 600] [--pairs 100] [--only full,no_remover,...]
+
+Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
+(use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
+λ ∈ {0, 1, 2.5, 5}. Rows already in the JSON are kept unless re-run.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+VARIANTS = {"full": {}, "no_remover": {"use_remover": False}, "no_traj": {"use_traj": False},
+            "scratch_style": {"pretrained_style": False}}
+LABELS = {"full": "full (short run)", "no_remover": "w/o StyleRemover", "no_traj": "w/o trajectory",
+          "scratch_style": "style extractor from scratch"}
+OUT = ROOT / "notebooks" / "data" / "04_ablations.json"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=600)
+    ap.add_argument("--pairs", type=int, default=100)
+    ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep")
+    ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")
+    args = ap.parse_args(argv)
+    import numpy as np
+    from mslib.data.corpora import load_builtin
+    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.models import mcm_ldm_pipeline as P
+    from mslib.motion.features import decode
+
+    paths = load_builtin(progress=False)
+    pairs = load_pairs(seed=0, n_pairs=args.pairs)
+    ev = Evaluator()
+    rows = {}
+    todo = args.only.split(",")
+    prepared = None
+    Path(args.workdir).mkdir(parents=True, exist_ok=True)
+
+    def score(tr, scale=None):
+        outs = [decode(tr(c["features"], s["features"], scale=scale)) for c, s in pairs]
+        r = evaluate(outs, pairs, ev)
+        return {k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "tsi", "fsf", "fmd")}
+
+    for key in (k for k in VARIANTS if k in todo):
+        if prepared is None:
+            prepared = P.prepare(paths["content"], paths["style"], windows=True)
+        out = Path(args.workdir) / f"{key}.pt"
+        t0 = time.time()
+        summary = P.run("course", paths["content"], paths["style"], seed=0, out=out, steps=args.steps,
+                        progress=False, overrides=VARIANTS[key], prepared=prepared)
+        tr = P.load_mcm_ldm(out)
+        rows[key] = {"key": key, "variant": LABELS[key], **score(tr), "steps": summary["steps"],
+                     "train_seconds": summary["seconds"], "wall_seconds": round(time.time() - t0, 1)}
+        print(json.dumps(rows[key]), flush=True)
+    if "sweep" in todo:
+        tr = P.load_mcm_ldm()
+        for lam in (0.0, 1.0, 2.5, 5.0):
+            key = f"lambda_{lam}"
+            rows[key] = {"key": key, "variant": f"course model, λ = {lam}", **score(tr, lam)}
+            print(json.dumps(rows[key]), flush=True)
+    old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
+    rows = {**{r["key"]: r for r in old}, **rows}
+    order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]
+    data = {"pairs": args.pairs, "seed": 0, "steps": args.steps,
+            "command": "python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:]),
+            "rows": [rows[k] for k in order if k in rows]}
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
