@@ -234,4 +234,15 @@ class MCMLDM(nn.Module):
                            generator=generator, callback=callback)
 
 
-from .mcm_ldm_pipeline import TRAINABLE, Transfer, build_tensors, load_mcm_ldm  # noqa: E402,F401
+# The pipeline (training, transfer, bench entry) lives beside this file; importing it registers the bench
+# method. A plain module import (not names) so either module can be imported first without a cycle error.
+from . import mcm_ldm_pipeline as _pipeline  # noqa: E402
+
+_FORWARDED = ("TRAINABLE", "Transfer", "build_tensors", "load_mcm_ldm")
+
+
+def __getattr__(name):
+    """TRAINABLE, Transfer, build_tensors, load_mcm_ldm are the pipeline's (resolved on first use)."""
+    if name in _FORWARDED:
+        return getattr(_pipeline, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
