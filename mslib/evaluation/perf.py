@@ -3,7 +3,7 @@
 Per method: build it once, warm up, then time `repeats` (≥ 20 by default) transfers of the same
 64-frame content clip (64 rows of the 263-d vector, 65 positions) with a built-in style clip, and
 report the median in milliseconds beside the issue's target. The parameter count comes from the
-optional protocol documented in bench.py (`transfer.n_parameters`, or `.parameters()` of a module).
+optional protocol documented in models/registry.py (`transfer.n_parameters`, or `.parameters()` of a module).
 """
 from __future__ import annotations
 
