@@ -199,4 +199,10 @@ from .registry import register  # noqa: E402
 @register(NAME, "B: latent diffusion with content/style/trajectory conditions, DDIM 50, CFG λ=2.5")
 def _bench_factory(device="cpu"):
     tr = load_mcm_ldm(device=device)
-    return lambda content, style: decode_positions(tr(content["features"], style["features"]))
+
+    def transfer(content, style):
+        return decode_positions(tr(content["features"], style["features"]))
+    # every parameter used at inference: denoiser, VAE, frozen style extractor
+    transfer.n_parameters = sum(p.numel() for m in (tr.model, tr.vae, tr.extractor) if m is not None
+                                for p in m.parameters())
+    return transfer
