@@ -4,7 +4,7 @@ import torch
 import torch.nn.functional as F
 
 from mslib.models.prototypes import (PrototypeBank, PrototypeConfig, PrototypeStyleModel, ema_update,
-                                     local_means, prototype_nce, sinkhorn)
+                                     local_means, matched_purity, prototype_nce, sinkhorn, substyle_confusion)
 
 
 def test_sinkhorn_rows_sum_to_one_and_balances_a_known_case():
@@ -116,3 +116,25 @@ def test_classifier_head_variant_and_bad_input():
         model.features(torch.randn(4, 20, 10))
     with pytest.raises(ValueError, match="head"):
         PrototypeConfig(head="kmeans")
+
+
+def test_substyle_confusion_counts_nearest_own_style_prototypes_and_purity():
+    cfg = PrototypeConfig.course(dim=16, layers=1, heads=2, n_styles=2, k_global=3)
+    model = PrototypeStyleModel(cfg, seed=0).eval()
+    x = torch.randn(7, 12, 263)
+    styles, subs = torch.tensor([0, 0, 1, 1, 1, 0, 1]), torch.tensor([0, 1, 2, 2, 0, 1, 1])
+    table = substyle_confusion(model, x, styles, subs, n_substyles=3)
+    assert table.shape == (2, 3, 3) and int(table.sum()) == 7
+    k = model.assign_global(x, styles)
+    for i in range(7):  # each clip lands in (its style, its sub-style, its nearest own-style prototype)
+        assert table[styles[i], subs[i], k[i]] >= 1
+    assert table[0].sum(1).tolist() == [1, 2, 0] and table[1].sum(1).tolist() == [1, 1, 2]
+    with pytest.raises(ValueError, match="lengths"):
+        substyle_confusion(model, x, styles[:3], subs, 3)
+
+
+def test_matched_purity_known_answers():
+    perfect = torch.tensor([[[0, 5, 0], [0, 0, 4], [3, 0, 0]]])  # a permutation of a diagonal table
+    assert matched_purity(perfect) == 1.0
+    mixed = torch.tensor([[[2, 2], [1, 3]], [[4, 0], [0, 0]]])  # best: 2 + 3 of 8, then 4 of 4
+    assert matched_purity(mixed) == pytest.approx(9 / 12)

@@ -29,7 +29,7 @@ from ..data.datasets import ContentClips, StyleClips
 from ..training import TrainConfig, fit
 from .diffusion import Schedule, eps_loss
 from .layers import TimestepEmbedding
-from .prototypes import PrototypeConfig, PrototypeStyleModel, train_style_model
+from .prototypes import PrototypeConfig, PrototypeStyleModel, load_style_model, train_style_model
 from .text import TextConfig, TextEncoder, Tokenizer
 
 STYLE_NAME, T2M_NAME, NAME = "clusterstyle_style", "clusterstyle_t2m", "clusterstyle"
@@ -366,10 +366,7 @@ def run_t2m(preset, content, style, seed=0, out=None, device="cpu", steps=None, 
 def build_sma_model(preset: str, t2m_path=None, style_path=None, device="cpu") -> ClusterStyle:
     """Stage 3's starting point: the t2m denoiser and the trained style model, in one ClusterStyle."""
     model = load_clusterstyle(t2m_path, device, name=T2M_NAME, stage="sma")
-    style_path = course_path(STYLE_NAME) if style_path is None else style_path
-    blob = read_checkpoint(style_path, STYLE_NAME)
-    model.style = PrototypeStyleModel(PrototypeConfig(**blob["config"]["prototypes"]))
-    load_state(style_path, model.style, STYLE_NAME)
+    model.style = load_style_model(style_path)
     model.style_cfg = model.style.cfg
     model.config["prototypes"] = asdict(model.style.cfg)
     model.cfg = ClusterStyleConfig.from_dict({**asdict(model.cfg), **asdict(train_configs(preset)["model"])})

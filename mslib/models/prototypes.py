@@ -279,6 +279,38 @@ class PrototypeStyleModel(nn.Module):
         return {"acc": float((pred == batch["style_index"]).float().mean())}
 
 
+# ---------------------------------------------------------------- loading and analysis
+def load_style_model(path=None, device="cpu") -> PrototypeStyleModel:
+    """A trained style model (default: the packaged course `clusterstyle_style.pt`), in eval mode."""
+    from ..checkpoints import course_path, load_state, read_checkpoint
+    path = course_path("clusterstyle_style") if path is None else path
+    model = PrototypeStyleModel(PrototypeConfig(**read_checkpoint(path)["config"]["prototypes"]))
+    load_state(path, model)
+    return model.to(device).eval()
+
+
+@torch.no_grad()
+def substyle_confusion(model: PrototypeStyleModel, x: torch.Tensor, styles: torch.Tensor,
+                       substyles: torch.Tensor, n_substyles: int) -> torch.Tensor:
+    """Counts (C, n_substyles, K): true sub-style (rows) × nearest global prototype of its own style (columns).
+
+    x (B, T, 263) normalised clips; styles (B,) in [0, C); substyles (B,) in [0, n_substyles)."""
+    if not len(x) == len(styles) == len(substyles):
+        raise ValueError(f"x, styles, substyles: lengths differ ({len(x)}, {len(styles)}, {len(substyles)})")
+    k = model.assign_global(x, styles)  # (B,)
+    table = torch.zeros(model.cfg.n_styles, int(n_substyles), model.cfg.k_global, dtype=torch.long)
+    table.index_put_((styles.cpu(), substyles.cpu(), k.cpu()), torch.ones(len(k), dtype=torch.long), accumulate=True)
+    return table
+
+
+def matched_purity(table) -> float:
+    """Fraction of clips on the best one-to-one sub-style ↔ prototype matching of each style's table (C, S, K)."""
+    from scipy.optimize import linear_sum_assignment
+    t = torch.as_tensor(table).numpy()
+    hit = sum(t[c][linear_sum_assignment(-t[c])].sum() for c in range(len(t)))
+    return float(hit / max(t.sum(), 1))
+
+
 # ---------------------------------------------------------------- training (the style stage)
 class NormalizedClips(torch.utils.data.Dataset):
     """A dataset of unnormalised clips, normalised with given 263-d mean/std (the model's statistics)."""

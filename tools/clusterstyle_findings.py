@@ -1,0 +1,137 @@
+"""Paper D's two findings on the built-in data; writes notebooks/data/06_clusterstyle_findings.json.
+
+    python tools/clusterstyle_findings.py [--only fig5,table3] [--sma-steps 400] [--pairs 100]
+
+fig5   D Fig. 5's claim: for each style, a reference clip and a content clip (both from the *val* splits,
+       not the benchmark's test pairs); three outputs that use the style's three global prototypes as the
+       style feature and guidance target (one seed) against three outputs with the reference's own
+       feature and three seeds. Diversity = mean pairwise root-relative joint distance (cm,
+       `pose_diversity`). Measured for SDEdit transfer (t0 = 600) and for generation from a caption.
+table3 D Table 3, first row: the style encoder with a learnable classification head and cross-entropy
+       instead of prototype clustering. Short runs of the same recipe (style stage 300 steps, then the
+       SMA stage `--sma-steps` steps from the packaged t2m model), scored by the independent evaluator on
+       the first `--pairs` default benchmark pairs; the style encoder's own held-out accuracy is reported too.
+Rows already in the JSON are kept unless re-run.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+OUT = ROOT / "notebooks" / "data" / "06_clusterstyle_findings.json"
+
+
+def val_examples(paths) -> list:
+    """One (content, style) pair per style from the val splits: the first walk and the first clip of the style."""
+    from mslib.data.datasets import ContentClips, StyleClips
+    from mslib.data.styles import STYLES
+    content = ContentClips(paths["content"], "val", normalize=False)
+    style = StyleClips(paths["style"], "val", normalize=False, joints=False)
+    walks = [i for i, r in enumerate(content.rows) if r["content"] == "walk"]
+    out = []
+    for k, s in enumerate(STYLES):
+        j = next(i for i, r in enumerate(style.rows) if r["style"] == s)
+        c = content[walks[k % len(walks)]]
+        out.append((s, c["features"].numpy(), c["caption"], style[j]["features"].numpy()))
+    return out
+
+
+def fig5(paths) -> dict:
+    """Diversity across a style's global prototypes vs across seeds with the fixed reference feature."""
+    from mslib.models.clusterstyle_guidance import load_pipeline, pose_diversity
+    pipe = load_pipeline()
+    rows = []
+    for style, content, caption, ref in val_examples(paths):
+        row = {"style": style}
+        for mode in ("transfer", "generate"):
+            kw = dict(caption=caption, mode=mode, length=len(content))
+            protos = pipe.variants(content, ref, kind="global", seed=0, **kw)
+            seeds = pipe.seed_variants(content, ref, seeds=(0, 1, 2), **kw)
+            row[mode] = {"prototypes_cm": round(pose_diversity(protos), 3), "seeds_cm": round(pose_diversity(seeds), 3)}
+        rows.append(row)
+    summary = {}
+    for mode in ("transfer", "generate"):
+        p = [r[mode]["prototypes_cm"] for r in rows]
+        s = [r[mode]["seeds_cm"] for r in rows]
+        summary[mode] = {"prototypes_cm": round(sum(p) / len(p), 3), "seeds_cm": round(sum(s) / len(s), 3),
+                         "styles_where_prototypes_win": int(sum(a > b for a, b in zip(p, s))), "styles": len(rows)}
+    return {"rows": rows, "summary": summary}
+
+
+def encoder_accuracy(path, paths) -> float:
+    """Held-out (test split) style accuracy of a trained style model, in percent."""
+    from mslib.data.datasets import StyleClips
+    from mslib.models.prototypes import NormalizedClips, load_style_model
+    from mslib.motion.features import Normalizer
+    model = load_style_model(path)
+    norm = Normalizer.load(paths["content"])
+    ds = NormalizedClips(StyleClips(paths["style"], "test", normalize=False, joints=False), norm.mean, norm.std)
+    right = 0
+    for i in range(len(ds)):
+        it = ds[i]
+        right += int(model.predict_style(it["features"][None])[0]) == it["style_index"]
+    return 100.0 * right / len(ds)
+
+
+def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
+    """Clustering (prototypes) vs a learnable classification head with CE: short runs, SRA by the evaluator."""
+    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.models import clusterstyle as C
+    from mslib.models.clusterstyle_guidance import Pipeline
+    from mslib.models.vae import load_vae
+    from mslib.motion.features import decode
+    pairs = load_pairs(seed=0, n_pairs=n_pairs)
+    ev, vae = Evaluator(), load_vae()
+    rows = []
+    for head in ("classifier", "prototypes"):
+        t0 = time.time()
+        style_pt, sma_pt = workdir / f"style_{head}.pt", workdir / f"sma_{head}.pt"
+        C.run_style("course", paths["content"], paths["style"], seed=0, out=style_pt, progress=False, head=head)
+        C.run_sma("course", paths["content"], paths["style"], seed=0, out=sma_pt, steps=sma_steps, progress=False,
+                  style_path=style_pt, vae=vae)
+        pipe = Pipeline(C.load_clusterstyle(sma_pt), vae)
+        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0))
+                for c, s in pairs]
+        r = evaluate(outs, pairs, ev)
+        rows.append({"head": head, "encoder_acc": round(encoder_accuracy(style_pt, paths), 2),
+                     **{k: round(float(r[k]), 4) for k in ("sra", "sra_top3", "cra", "h", "fmd")},
+                     "seconds": round(time.time() - t0, 1)})
+        print(rows[-1], flush=True)
+    return {"sma_steps": sma_steps, "pairs": n_pairs, "rows": rows}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", default="fig5,table3")
+    ap.add_argument("--sma-steps", type=int, default=400)
+    ap.add_argument("--pairs", type=int, default=100)
+    ap.add_argument("--workdir", default="/tmp/clusterstyle_findings")
+    args = ap.parse_args(argv)
+    import torch
+    from mslib.data.corpora import load_builtin
+    torch.manual_seed(0)
+    paths = load_builtin(progress=False)
+    workdir = Path(args.workdir)
+    workdir.mkdir(parents=True, exist_ok=True)
+    result = json.loads(OUT.read_text()) if OUT.is_file() else {}
+    todo = args.only.split(",")
+    if "fig5" in todo:
+        t0 = time.time()
+        result["fig5"] = fig5(paths)
+        print("fig5", json.dumps(result["fig5"]["summary"]), f"{time.time() - t0:.0f} s", flush=True)
+    if "table3" in todo:
+        result["table3"] = table3(paths, workdir, args.sma_steps, args.pairs)
+    result["command"] = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    print(json.dumps({k: v for k, v in result.items() if k != "fig5"} | {"fig5": result.get("fig5", {}).get("summary")}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
