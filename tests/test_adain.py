@@ -29,7 +29,7 @@ def test_shapes_and_root_path_from_the_content():
     assert out.shape == c.shape
     np.testing.assert_allclose(out[:, :4], c[:, :4], atol=1e-5)  # dims 0..3 are the content's
     pos = m.transfer(c, s)
-    assert pos.shape == (41, 22, 3)
+    assert pos.shape == (40, 22, 3)  # decode: one frame per feature row (recover_from_ric)
     np.testing.assert_allclose(pos[:, 0, [0, 2]], decode(c)[:, 0, [0, 2]], atol=1e-4)
 
 
@@ -61,8 +61,15 @@ def test_losses_are_the_two_paths():
     m = _model()
     batch = {"content": {"features": torch.randn(3, 24, 263)}, "style": {"features": torch.randn(3, 31, 263)}}
     logs = m.losses(batch)
-    assert set(logs) == {"loss", "content", "style"}
-    assert torch.isclose(logs["loss"], TINY.lambda_style * logs["style"] + TINY.lambda_content * logs["content"])
+    assert set(logs) == {"loss", "content", "style", "style_rec"}
+    # A Eq. 5, with the workbook's extra reconstruction of the style clips averaged into the content term
+    assert torch.isclose(logs["loss"], TINY.lambda_style * logs["style"]
+                         + TINY.lambda_content * 0.5 * (logs["content"] + logs["style_rec"]))
+    torch.manual_seed(0)
+    plain = A.AdainTransfer(A.AdainConfig(**{**A.asdict(TINY), "style_recon": False}), np.zeros(263), np.ones(263))
+    p_logs = plain.losses(batch)
+    assert set(p_logs) == {"loss", "content", "style"}
+    assert torch.isclose(p_logs["loss"], TINY.lambda_style * p_logs["style"] + TINY.lambda_content * p_logs["content"])
     # the self-reconstruction path does not see the style clip
     batch2 = {"content": batch["content"], "style": {"features": torch.randn(3, 31, 263)}}
     assert torch.isclose(m.losses(batch2)["content"], logs["content"])

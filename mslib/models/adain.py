@@ -40,8 +40,8 @@ class AdainConfig:
     lambda_content: float = 1.0  # A Eq. 5
     clip_frames: int = 32  # content crop length (feature rows) in training
     content_skip: bool = True  # the decoder also sees the content features minus their mean over time
-    style_recon: bool = True
-    style_strength: float = 1.0  # inference: how far the statistics move from the content's to the style's  # also run the self-reconstruction path on the style clips (see losses)
+    style_recon: bool = True  # also run the self-reconstruction path on the style clips (see losses)
+    style_strength: float = 1.0  # inference: how far the statistics move from the content's to the style's
 
 
 PRESETS = {
@@ -162,23 +162,25 @@ class AdainTransfer(nn.Module):
         code = self.content_encoder(x_c - x_c.mean(1, keepdim=True))  # C_c (B, T, H), shared by both paths
         mu_cc, sig_cc = self.style_stats(f_c)
         rec = self.normalize(self.stylize(x_c, mu_cc, sig_cc, code=code))
-        l_content = (rec[..., 4:] - x_c[..., 4:]).abs().mean()  # A Eq. 4: ‖P_{c→c} − P_c‖₁
+        l_content = (rec[..., 4:] - x_c[..., 4:]).abs().mean()  # A Eq. 4: ‖P_{c→c} − P_c‖₁ (content clips only)
         # stylization path: style clips from the other (retargeted) corpus
         mu_s, sig_s = self.style_stats(f_s)
-        if self.cfg.style_recon:  # the same A Eq. 4 on the style clips: the decoder learns their poses
-            x_s = self.normalize(f_s)
-            rec_s = self.normalize(self.stylize(x_s, mu_s, sig_s))
-            l_content = 0.5 * (l_content + (rec_s[..., 4:] - x_s[..., 4:]).abs().mean())
         out = self.stylize(x_c, mu_s, sig_s, code=code)  # P_{c→s}
         mu_o, sig_o = self.style_stats(out)  # statistics of E_s(P_{c→s})
         l_style = ((mu_o - mu_s.detach()) ** 2).sum(-1).mean() + ((sig_o - sig_s.detach()) ** 2).sum(-1).mean()  # A Eq. 3
-        total = self.cfg.lambda_style * l_style + self.cfg.lambda_content * l_content  # A Eq. 5
-        return {"loss": total, "content": l_content, "style": l_style}
+        logs = {"content": l_content, "style": l_style}
+        l_rec = l_content
+        if self.cfg.style_recon:  # workbook addition: A Eq. 4 also on the style clips (decoder learns their poses)
+            x_s = self.normalize(f_s)
+            rec_s = self.normalize(self.stylize(x_s, mu_s, sig_s))
+            logs["style_rec"] = (rec_s[..., 4:] - x_s[..., 4:]).abs().mean()
+            l_rec = 0.5 * (l_content + logs["style_rec"])
+        logs["loss"] = self.cfg.lambda_style * l_style + self.cfg.lambda_content * l_rec  # A Eq. 5
+        return logs
 
     def training_step(self, batch: dict) -> dict:
         logs = self.losses(batch)
-        return {"loss": logs["loss"], "content": float(logs["content"].detach()),
-                "style": float(logs["style"].detach())}
+        return {k: (v if k == "loss" else float(v.detach())) for k, v in logs.items()}
 
     def validation_step(self, batch: dict) -> dict:
         return {k: float(v) for k, v in self.losses(batch).items()}
@@ -200,7 +202,8 @@ class AdainTransfer(nn.Module):
 
     def transfer(self, content_features, style_features, use_mean=True, use_std=True,
                  strength: float | None = None) -> np.ndarray:
-        """Stylized joint positions (T+1, 22, 3) from unnormalised content and style features."""
+        """Stylized joint positions (T, 22, 3) from unnormalised (T, 263) content and (S, 263) style features
+        (`decode` gives one frame per feature row, as the release's recover_from_ric)."""
         return decode(self.transfer_features(content_features, style_features, use_mean, use_std, strength))
 
 
