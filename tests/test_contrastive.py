@@ -60,13 +60,18 @@ def test_shapes_and_keep_root():
     assert m.encode_content(x).shape == (3, 16, 15)   # h × t, t = T // 2
     assert m.encode_style(x).shape == (3, 8)
     assert m.generate(m.encode_content(x), m.encode_style(x), 31, x).shape == (3, 31, 263)
+    sk = C.ContrastiveModel(tiny(content_skip=True)).eval()
     with pytest.raises(ValueError, match="content_skip"):
-        m.generate(m.encode_content(x), m.encode_style(x), 31)
+        sk.generate(sk.encode_content(x), sk.encode_style(x), 31)
     plain = C.ContrastiveModel(tiny(content_skip=False)).eval()
-    plain.load_state_dict(m.state_dict())
-    skip = m.generate(m.encode_content(x), m.encode_style(x), 31, x) - plain.generate(
-        m.encode_content(x), m.encode_style(x), 31)
+    plain.load_state_dict(sk.state_dict())
+    skip = sk.generate(sk.encode_content(x), sk.encode_style(x), 31, x) - plain.generate(
+        sk.encode_content(x), sk.encode_style(x), 31)
     torch.testing.assert_close(skip, x - x.mean(1, keepdim=True))  # the content's own movement
+    normed = C.ContrastiveModel(tiny(content_norm=True)).eval().encode_content(x)  # IN over time: zero mean
+    torch.testing.assert_close(normed.mean(-1), torch.zeros(3, 16), atol=1e-5, rtol=0)
+    raw = C.ContrastiveModel(tiny(content_norm=False)).eval().encode_content(x + 3.0)
+    assert raw.mean(-1).abs().max() > 1e-3  # without it the code keeps a time mean (the posture)
     assert m.discriminator(x).shape == (3, 7)
     content, style = np.random.default_rng(0).normal(size=(50, 263)), np.random.default_rng(1).normal(size=(31, 263))
     out = m.transfer_features(content, style)
@@ -126,6 +131,9 @@ def test_paired_clips_leave_a_style_out():
     builtin = load_builtin(progress=False)
     ds = C.PairedClips(builtin["content"], builtin["style"], "val", exclude_styles=("depressed",))
     assert all(ds.style.rows[i]["style"] != "depressed" for i in ds.style_index)
+    assert all(ds.content.rows[i]["style"] != "depressed" for i in ds.content_index)
+    full = C.PairedClips(builtin["content"], builtin["style"], "val")
+    assert len(ds.style_index) < len(full.style_index) and len(ds) < len(full) == len(full.content)
     item = ds[0]
     assert item["target"].shape == (31, 263) and item["source"].shape == (31, 263)
     with pytest.raises(ValueError, match="exclude_styles"):
@@ -179,4 +187,12 @@ def test_interpolation_ends_match_transfer():
 
 def test_missing_findings_name_the_command(tmp_path):
     with pytest.raises(ValueError, match="contrastive_analysis"):
-        CA.load_findings(tmp_path / "none.json", tmp_path / "none.npz")
+        CA.load_findings(tmp_path / "none.json")
+
+
+def test_findings_round_trip_and_load_before_compute(tmp_path):
+    results = {"steps": 3, "sweep": [{"beta": 0.3, "content_distance": 0.5}], "labels": ["a", "b"]}
+    path = CA.save_findings(results, tmp_path / "f.json")
+    assert CA.load_findings(path) == results
+    # an existing file is loaded, never recomputed (the folders given here do not exist)
+    assert CA.findings(tmp_path / "no_content", tmp_path / "no_style", path=path) == results

@@ -48,6 +48,7 @@ class ContrastiveConfig:
     margin: float = 1.0        # C Eq. 4: λ
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
+    content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
     crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
     d_lr: float = 1e-4         # the discriminator's own optimiser
     steps: int = 200_000
@@ -92,7 +93,7 @@ class ContentEncoder(nn.Module):
             _conv(cfg.feature_dim, h, 4 if cfg.down == 2 else 3, cfg.down), nn.LeakyReLU(0.2),
             _conv(h, h), nn.LeakyReLU(0.2),
             _conv(h, h), nn.InstanceNorm1d(h),
-            *[ResBlock1d(h) for _ in range(3)], nn.InstanceNorm1d(h))
+            *[ResBlock1d(h) for _ in range(3)], nn.InstanceNorm1d(h) if cfg.content_norm else nn.Identity())
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         return self.net(x.transpose(1, 2))  # (B, h, t)
@@ -336,22 +337,25 @@ class PairedClips(Dataset):
     """Random (target, source) pairs, unlabelled: item i = a `crop`-row window of content clip i and a
     random style clip, both normalised with the content corpus's statistics.
 
-    exclude_styles: style-corpus styles to leave out (the unseen-style experiment, C Fig. 3)."""
+    exclude_styles: styles to leave out of both corpora (the unseen-style experiment, C Fig. 3: every
+    clip labelled with them is dropped; the labels are read only for this filter)."""
 
     def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
                  exclude_styles=(), mean=None, std=None):
         self.content = MotionFolder(content_folder, split, normalize=False, labels=())
         style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
-        keep = [i for i, r in enumerate(style.rows) if r.get("style") not in set(exclude_styles)]
-        if not keep:
-            raise ValueError(f"exclude_styles: {list(exclude_styles)} leaves no style clips")
+        drop = set(exclude_styles)
+        keep = [i for i, r in enumerate(style.rows) if r.get("style") not in drop]
+        self.content_index = [i for i, r in enumerate(self.content.rows) if r.get("style") not in drop]
+        if not keep or not self.content_index:
+            raise ValueError(f"exclude_styles: {list(exclude_styles)} leaves no style or no content clips")
         self.style, self.style_index = style, keep
         self.crop = int(crop)
         self.mean = self.content.mean if mean is None else np.asarray(mean, np.float32)
         self.std = self.content.std if std is None else np.asarray(std, np.float32)
 
     def __len__(self) -> int:
-        return len(self.content)
+        return len(self.content_index)
 
     def _window(self, f: np.ndarray) -> np.ndarray:
         if len(f) < self.crop:  # edge-pad short clips
@@ -360,7 +364,7 @@ class PairedClips(Dataset):
         return f[s:s + self.crop]
 
     def __getitem__(self, i: int) -> dict:
-        tgt = self._window(self.content._arrays(i)[0])
+        tgt = self._window(self.content._arrays(self.content_index[i])[0])
         src = self._window(self.style._arrays(self.style_index[np.random.randint(len(self.style_index))])[0])
         norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
         return {"target": norm(tgt), "source": norm(src)}

@@ -2,8 +2,9 @@
 the β sweep (C Table 1), style interpolation (C Fig. 10–11) and an unseen style (C Fig. 3).
 
 Short runs are too slow for a notebook, so `python -m mslib.models.contrastive_analysis` trains them
-once and writes `mslib/checkpoints/contrastive_findings.json` (tables) and `.npz` (held-out style
-codes); notebook 03 loads both. Labels are used only to colour and score codes, never in training
+once (six course-sized runs of 300 steps) and writes `mslib/checkpoints/contrastive_findings.json`:
+the tables, silhouettes and the t-SNE points of the held-out style codes; notebook 03 loads it if it
+exists, else computes it (`findings`). Labels are used only to colour and score codes, never in training
 (the unseen-style run leaves the depressed clips out of its training data).
 
 Distances of the β sweep (our choice; C's network layers are not public, and models may not use the
@@ -30,7 +31,8 @@ from ..motion.features import BLOCKS, decode
 from .contrastive import ContrastiveConfig, ContrastiveModel, train
 
 FINDINGS_JSON = PACKAGE_DIR / "contrastive_findings.json"
-FINDINGS_NPZ = PACKAGE_DIR / "contrastive_findings.npz"
+COMMAND = "python -m mslib.models.contrastive_analysis"
+DEFAULT_STEPS = 300
 BETAS = (0.0, 0.3, 0.6, 1.0)
 UNSEEN = "depressed"
 
@@ -137,72 +139,82 @@ def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_s
     return model.eval(), history
 
 
-def run_findings(content_folder, style_folder, steps: int = 400, seed: int = 0, n_pairs: int = 64,
-                 progress: bool = True) -> tuple:
-    """Train the short runs and measure (a), (b), (d); returns (JSON-able results, arrays for the npz)."""
+def _embedding(codes: np.ndarray, labels: np.ndarray, seed: int) -> dict:
+    """Silhouette of the codes themselves and their 2-D t-SNE (rounded, for the JSON)."""
+    return {"silhouette": silhouette(codes, labels),
+            "tsne": np.round(tsne_2d(codes, seed), 2).tolist()}
+
+
+def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed: int = 0, n_pairs: int = 64,
+                 progress: bool = True) -> dict:
+    """Train the short runs and measure (a), (b), (d); returns a JSON-able dict (tables, silhouettes,
+    t-SNE points of the held-out style codes, their labels)."""
     clips, labels = style_clips(style_folder, "test")
     pairs = held_out_pairs(content_folder, style_folder, n_pairs, seed)
     say = print if progress else (lambda *a, **k: None)
-    results = {"steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs), "betas": list(BETAS),
-               "sweep": [], "unseen_style": UNSEEN}
-    arrays = {"labels": labels}
+    results = {"command": COMMAND, "steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs),
+               "betas": list(BETAS), "labels": labels.tolist(), "sweep": [], "unseen_style": UNSEEN}
     t0 = time.time()
     for beta in BETAS:  # (b) C Table 1, γ = 0.3; β = 0.3 is also (a)'s "with"
         model, _ = short_run(content_folder, style_folder, steps, seed, beta=beta)
-        row = {"beta": beta, **transfer_distances(model, pairs)}
         codes = model.style_codes(clips)
-        row["silhouette"] = silhouette(codes, labels)
+        row = {"beta": beta, **transfer_distances(model, pairs), "silhouette": silhouette(codes, labels)}
         results["sweep"].append(row)
         if beta == 0.3:
-            arrays["codes_with"] = codes.astype(np.float32)
+            results["with"] = _embedding(codes, labels, seed)
         say(f"β={beta}: {row} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, beta=0.0, gamma=0.0)  # (a) "without"
-    arrays["codes_without"] = model.style_codes(clips).astype(np.float32)
-    results["silhouette_with"] = silhouette(arrays["codes_with"], labels)
-    results["silhouette_without"] = silhouette(arrays["codes_without"], labels)
-    say(f"without contrastive terms: silhouette {results['silhouette_without']:.3f} ({time.time() - t0:.0f} s)")
+    results["without"] = _embedding(model.style_codes(clips), labels, seed)
+    say(f"without contrastive terms: silhouette {results['without']['silhouette']:.3f} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, exclude_styles=(UNSEEN,))  # (d)
     codes = model.style_codes(clips)
-    arrays["codes_unseen"] = codes.astype(np.float32)
     per = silhouette_per_label(codes, labels)
-    results["unseen"] = {"silhouette": silhouette(codes, labels), "per_style": per,
-                         "unseen_silhouette": per[UNSEEN],
+    results["unseen"] = {**_embedding(codes, labels, seed), "per_style": per, "unseen_silhouette": per[UNSEEN],
                          "unseen_nn_purity": nearest_neighbour_purity(codes, labels, UNSEEN),
                          "chance_nn_purity": float((labels == UNSEEN).mean())}
     results["seconds"] = round(time.time() - t0, 1)
-    say(f"unseen {UNSEEN}: {results['unseen']} ({results['seconds']} s)")
-    return results, arrays
+    say(f"unseen {UNSEEN}: silhouette {per[UNSEEN]:.3f}, nn purity {results['unseen']['unseen_nn_purity']:.3f} "
+        f"({results['seconds']} s)")
+    return results
 
 
-def save_findings(results: dict, arrays: dict, json_path=FINDINGS_JSON, npz_path=FINDINGS_NPZ) -> None:
-    """Write the tables (JSON) and the codes (npz)."""
-    atomic_write_bytes(Path(json_path), (json.dumps(results, indent=1, sort_keys=True) + "\n").encode())
-    np.savez_compressed(npz_path, **arrays)
+def save_findings(results: dict, path=FINDINGS_JSON) -> Path:
+    """Write the findings as JSON."""
+    path = Path(path)
+    atomic_write_bytes(path, (json.dumps(results, sort_keys=True) + "\n").encode())
+    return path
 
 
-def load_findings(json_path=FINDINGS_JSON, npz_path=FINDINGS_NPZ) -> tuple:
-    """The stored results and codes; a clear message names the command when they are missing."""
-    if not Path(json_path).is_file() or not Path(npz_path).is_file():
-        raise ValueError(f"{json_path}: no stored findings; make them with "
-                         "`python -m mslib.models.contrastive_analysis`")
-    with np.load(npz_path) as z:
-        arrays = {k: z[k] for k in z.files}
-    return json.loads(Path(json_path).read_text()), arrays
+def load_findings(path=FINDINGS_JSON) -> dict:
+    """The stored findings; a clear message names the command when they are missing."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no stored findings; make them with `{COMMAND}`")
+    return json.loads(path.read_text())
+
+
+def findings(content_folder, style_folder, path=FINDINGS_JSON, **kwargs) -> dict:
+    """Load the stored findings if the file exists, else compute them (about 10 CPU minutes; not saved)."""
+    if Path(path).is_file():
+        return load_findings(path)
+    return run_findings(content_folder, style_folder, **kwargs)
 
 
 def main(argv=None) -> int:
-    """`python -m mslib.models.contrastive_analysis [--steps N] [--seed S]`: the short runs → findings files."""
-    p = argparse.ArgumentParser(prog="python -m mslib.models.contrastive_analysis", description=main.__doc__)
-    p.add_argument("--steps", type=int, default=400)
+    """`python -m mslib.models.contrastive_analysis [--steps N] [--seed S] [--pairs N] [--out FILE]`:
+    the short runs of C's findings → a JSON file (by default the one notebook 03 loads)."""
+    p = argparse.ArgumentParser(prog=COMMAND, description=main.__doc__)
+    p.add_argument("--steps", type=int, default=DEFAULT_STEPS)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--pairs", type=int, default=64)
-    p.add_argument("--json-out", default=str(FINDINGS_JSON))
-    p.add_argument("--npz-out", default=str(FINDINGS_NPZ))
+    p.add_argument("--out", default=str(FINDINGS_JSON))
     args = p.parse_args(argv)
+    if args.steps < 1 or args.pairs < 1:
+        raise SystemExit("--steps and --pairs must be positive")
     from ..data.corpora import load_builtin
     paths = load_builtin(progress=False)
-    results, arrays = run_findings(paths["content"], paths["style"], args.steps, args.seed, args.pairs)
-    save_findings(results, arrays, args.json_out, args.npz_out)
+    results = run_findings(paths["content"], paths["style"], args.steps, args.seed, args.pairs)
+    print(save_findings(results, args.out))
     return 0
 
 
