@@ -133,6 +133,12 @@ def move_slider_in_browser(notebook: Path, workdir: Path, artifacts: Path, timeo
         handle.send_keys(Keys.ARROW_RIGHT)
         WebDriverWait(driver, 120).until(lambda d: _figure_src(d) not in (None, before))
         after = _figure_src(driver)
+        # the screenshot shows the slider and the redrawn figure (not the cell above), without the news toast
+        for button in driver.find_elements(By.XPATH, "//div[contains(@class,'jp-toast')]//button[text()='No']"):
+            button.click()
+        box = driver.find_element(By.CSS_SELECTOR, ".mslib-slider-figure")
+        driver.execute_script("arguments[0].scrollIntoView({block: 'start'});", box)
+        time.sleep(0.5)
         artifacts.mkdir(parents=True, exist_ok=True)
         shot = artifacts / "browser_slider_after.png"
         driver.save_screenshot(str(shot))
