@@ -76,6 +76,22 @@ def test_denoiser_shapes_and_ablation_switches():
         M.MCMConfig.preset("big")
 
 
+def test_patches_group_consecutive_latent_tokens():
+    assert (M.auto_patch(4), M.auto_patch(7), M.auto_patch(50), M.auto_patch(200)) == (1, 1, 5, 20)
+    z = torch.arange(2 * 6 * 3, dtype=torch.float32).reshape(2, 6, 3)
+    assert torch.equal(M.patchify(z, 2)[:, 1], torch.cat([z[:, 2], z[:, 3]], -1))  # tokens 2, 3 side by side
+    cfg = M.MCMConfig(width=32, heads=2, blocks=2, mlp_ratio=2, traj_layers=1, traj_down=4, patch=2)
+    m = M.MCMLDM(cfg, latent_tokens=6, latent_dim=8, style_dim=6)
+    assert (m.p, m.m, m.n_content, m.config["patch"]) == (2, 3, 2, 2)
+    g = torch.Generator().manual_seed(0)
+    cond = m.conditions(torch.randn(2, 6, 8, generator=g), torch.randn(2, 6, generator=g),
+                        torch.randn(2, 20, 3, generator=g), torch.ones(2, 20, dtype=torch.bool))
+    assert cond["content"].shape == (2, 2, 32)
+    assert m.denoise(torch.randn(2, 6, 8), torch.tensor([3, 700]), cond).shape == (2, 6, 8)
+    with pytest.raises(ValueError, match="patch"):
+        M.MCMLDM(M.MCMConfig(width=32, heads=2, blocks=1, patch=4), latent_tokens=6, latent_dim=8, style_dim=6)
+
+
 def test_cfg_sample_scale_one_is_the_conditional_model():
     torch.manual_seed(0)
     m = tiny()

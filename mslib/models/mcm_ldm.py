@@ -48,6 +48,7 @@ class MCMConfig:
     remover_norm: str = "channel"  # InstanceNorm axis of the StyleRemover ("channel" over tokens, or "token")
     content_bottleneck: int = 0  # 0: none (paper); else the width of a narrow layer on each content token
     content_noise: float = 0.0  # std of Gaussian noise on the content latent in training (a softer bottleneck)
+    patch: int = 1  # consecutive VAE tokens per denoiser token (0: auto, the largest divisor of N giving ≤ 12)
     p_drop_style: float = 0.25  # B §3.3: null style (zeros) for classifier-free guidance
     cfg_scale: float = 2.5  # λ, B Eq. 5
     ddim_steps: int = 50
@@ -65,7 +66,7 @@ class MCMConfig:
             return cls()
         if name == "course":
             return cls(width=96, heads=4, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, steps=1500,
-                       batch_size=64, lr=1e-3)
+                       batch_size=64, lr=1e-3, patch=0)
         raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
 
     @classmethod
@@ -103,28 +104,41 @@ class Block(nn.Module):
         return h + g2[:, None] * self.mlp(modulate(self.norm2(h), s2, k2))  # B Eq. 8
 
 
+def auto_patch(tokens: int, most: int = 12) -> int:
+    """The smallest group size p dividing `tokens` with tokens / p ≤ most (1 when tokens ≤ most)."""
+    return next(p for p in range(1, tokens + 1) if tokens % p == 0 and tokens // p <= most)
+
+
+def patchify(z: torch.Tensor, p: int) -> torch.Tensor:
+    """(B, N, d) → (B, N/p, p·d): p consecutive latent tokens side by side."""
+    return z.reshape(z.shape[0], z.shape[1] // p, p * z.shape[2])
+
+
 class StyleRemover(nn.Module):
     """B §3.2: InstanceNorm of the VAE content tokens, a projection and a transformer layer, a linear map
     N → N−1 tokens. `norm="channel"`: each latent channel normalised over the N tokens (statistics
     across tokens removed, as AdaIN removes them across time); `"token"`: each token over its channels."""
 
     def __init__(self, tokens: int, latent_dim: int, width: int, heads: int, layers: int, norm: str = "channel",
-                 bottleneck: int = 0):
+                 bottleneck: int = 0, patch: int = 1):
         super().__init__()
         if norm not in ("channel", "token"):
             raise ValueError(f"norm: expected 'channel' or 'token', got {norm!r}")
-        self.norm_axis = norm
+        if patch < 1 or tokens % patch:
+            raise ValueError(f"patch: {patch} does not divide the {tokens} latent tokens")
+        self.norm_axis, self.patch = norm, patch
         self.norm = nn.InstanceNorm1d(latent_dim if norm == "channel" else tokens)
-        self.proj = nn.Linear(latent_dim, width)
+        self.proj = nn.Linear(patch * latent_dim, width)
         self.body = transformer_encoder(width, heads, layers, 2, 0.0)
-        self.squeeze = nn.Linear(tokens, tokens - 1)  # mixes tokens: N → N−1
+        m = tokens // patch
+        self.squeeze = nn.Linear(m, m - 1)  # mixes tokens: N → N−1 (N/p → N/p − 1 with patches)
         # optional narrow channel bottleneck (course): W → b → W per content token
         self.narrow = nn.Sequential(nn.Linear(width, bottleneck), nn.Linear(bottleneck, width)) if bottleneck else None
 
     def forward(self, z: torch.Tensor) -> torch.Tensor:
-        """(B, N, d) content latent → (B, N−1, W) content tokens."""
+        """(B, N, d) content latent → (B, N/p − 1, W) content tokens (the norm acts on the N VAE tokens)."""
         n = self.norm(z.transpose(1, 2)).transpose(1, 2) if self.norm_axis == "channel" else self.norm(z)
-        h = self.body(self.proj(n))  # (B, N, W)
+        h = self.body(self.proj(patchify(n, self.patch)))  # (B, N/p, W)
         c = self.squeeze(h.transpose(1, 2)).transpose(1, 2)  # (B, N−1, W)
         return self.narrow(c) if self.narrow is not None else c
 
@@ -163,20 +177,25 @@ class MCMLDM(nn.Module):
         self.config = {**asdict(cfg), "latent_tokens": self.n, "latent_dim": self.d, "style_dim": int(style_dim),
                        "style_cfg": style_cfg or {}}
         W = cfg.width
+        self.p = auto_patch(self.n) if cfg.patch == 0 else int(cfg.patch)
+        if self.n % self.p:
+            raise ValueError(f"patch: {self.p} does not divide the {self.n} latent tokens")
+        self.config["patch"] = self.p  # resolved, so a checkpoint rebuilds the same model
+        self.m = self.n // self.p  # denoiser tokens of the noisy latent
         self.sched = Schedule()
-        self.in_proj = nn.Linear(self.d, W)
-        self.content_proj = None if cfg.use_remover else nn.Linear(self.d, W)
+        self.in_proj = nn.Linear(self.p * self.d, W)
+        self.content_proj = None if cfg.use_remover else nn.Linear(self.p * self.d, W)
         self.remover = StyleRemover(self.n, self.d, W, cfg.heads, cfg.remover_layers, cfg.remover_norm,
-                                    cfg.content_bottleneck) \
+                                    cfg.content_bottleneck, self.p) \
             if cfg.use_remover else None
-        self.n_content = self.n - 1 if cfg.use_remover else self.n
-        self.token_pos = nn.Parameter(torch.randn(1, self.n_content + self.n, W) * 0.02)
+        self.n_content = self.m - 1 if cfg.use_remover else self.m
+        self.token_pos = nn.Parameter(torch.randn(1, self.n_content + self.m, W) * 0.02)
         self.time = TimestepEmbedding(W)
         self.style_proj = nn.Linear(int(style_dim), W)
         self.traj = TrajectoryEncoder(W, cfg.heads, cfg.traj_layers, cfg.traj_down) if cfg.use_traj else None
         self.blocks = nn.ModuleList(Block(W, cfg.heads, cfg.mlp_ratio) for _ in range(cfg.blocks))
         self.norm_out = nn.LayerNorm(W, elementwise_affine=False, eps=1e-6)
-        self.out = nn.Linear(W, self.d)
+        self.out = nn.Linear(W, self.p * self.d)
         # "from scratch" ablation: a fresh style encoder trained by the diffusion loss alone
         self.style_net = None if cfg.pretrained_style else SE.MotionEncoder(
             SE.StyleExtractorConfig.from_dict(style_cfg or {}))
@@ -184,18 +203,19 @@ class MCMLDM(nn.Module):
     def conditions(self, z_content: torch.Tensor, style: torch.Tensor, traj: torch.Tensor | None,
                    traj_mask: torch.Tensor | None) -> dict:
         """Per-clip conditions, computed once: content tokens (B, N−1, W), style (B, W), trajectory (B, W)."""
-        c = self.remover(z_content) if self.remover is not None else self.content_proj(z_content)  # B Eq. 6
+        c = self.remover(z_content) if self.remover is not None else \
+            self.content_proj(patchify(z_content, self.p))  # B Eq. 6
         tr = self.traj(traj, traj_mask) if self.traj is not None else torch.zeros_like(c[:, 0])
         return {"content": c, "style": self.style_proj(style), "traj": tr}
 
     def denoise(self, z_t: torch.Tensor, t: torch.Tensor, cond: dict) -> torch.Tensor:
         """ε̂ for (B, N, d) noisy latents: [content tokens; noisy tokens] → blocks → the last N tokens."""
         temb = self.time(t)  # (B, W)
-        h = torch.cat([cond["content"], self.in_proj(z_t)], 1) + self.token_pos  # B Eq. 6
+        h = torch.cat([cond["content"], self.in_proj(patchify(z_t, self.p))], 1) + self.token_pos  # B Eq. 6
         c_style, c_traj = temb + cond["style"], temb + cond["traj"]
         for blk in self.blocks:
             h = blk(h, c_style, c_traj)
-        return self.out(self.norm_out(h[:, self.n_content:]))
+        return self.out(self.norm_out(h[:, self.n_content:])).reshape(z_t.shape)  # (B, N/p, p·d) → (B, N, d)
 
     def _style_of(self, batch: dict) -> torch.Tensor:
         if self.style_net is None:
