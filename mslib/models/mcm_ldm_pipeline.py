@@ -162,9 +162,10 @@ def train_mcm(cfg: MCMConfig, train: dict, val: dict | None, vae: MotionVAE, sty
     return model.eval(), history
 
 
-def prepare(content, style, device="cpu", windows: bool = False, views: int = 2) -> tuple:
-    """(vae, extractor, style config dict, train tensors) from the packaged VAE and style extractor."""
-    vae = load_vae(device=device)
+def prepare(content, style, device="cpu", windows: bool = False, views: int = 2, vae_path=None) -> tuple:
+    """(vae, extractor, style config dict, train tensors) from the VAE (default: the packaged one) and the
+    packaged style extractor."""
+    vae = load_vae(vae_path, device=device)
     extractor = SE.load_style_extractor(device=device)
     style_cfg = asdict(extractor.cfg)
     return vae, extractor, style_cfg, build_tensors(vae, extractor, content, style, "train", views=views,
