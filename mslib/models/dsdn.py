@@ -157,6 +157,20 @@ class DSDN(nn.Module):
         return self((x - self.mean) / self.std, return_gate=True)[1][0, :, 0].double().cpu().numpy()
 
 
+@torch.no_grad()
+def evaluate_pairs(model: DSDN, pairs, batch_size: int = 64) -> dict:
+    """Mean L_rec (A Eq. 11) and L_vel (A Eq. 12) over all (noisy, clean) pairs, e.g. the validation set."""
+    noisy, clean = pairs
+    model.eval()
+    sums, n = {"rec": 0.0, "vel": 0.0}, 0
+    for i in range(0, len(noisy), batch_size):
+        logs = model.losses((noisy[i:i + batch_size], clean[i:i + batch_size]))
+        k = len(noisy[i:i + batch_size])
+        sums = {key: sums[key] + k * float(logs[key]) for key in sums}
+        n += k
+    return {key: v / max(n, 1) for key, v in sums.items()}
+
+
 # ---------------------------------------------------------------- training pairs (A §4.3.1)
 def neutral_pairs(stage1, content_folder, style_folder, split: str, length: int, seed: int = 0):
     """(noisy, clean) normalised tensors (N, length, 263): each content clip of the split and its
