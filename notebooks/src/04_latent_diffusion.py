@@ -92,7 +92,8 @@ _ = fig
 # Everything MCM-LDM generates passes through this decoder, so the VAE sets a ceiling on how much style
 # an output can show. Measure it directly: reconstruct held-out *style* clips and ask the independent
 # style classifier (the benchmark's evaluator, never used in training) whether it still recognises
-# their style.
+# their style. When the second number is far below the first, no denoiser working on this latent can
+# produce a clearly recognisable style: keep the two numbers in mind when you read §6 and §9.
 
 # %%
 from mslib.evaluation.bench import Evaluator
@@ -140,8 +141,9 @@ _ = fig
 # ## 3. The multi-condition denoiser
 # The denoiser $\varepsilon_\theta(z_t, t, c, s, \tau)$ predicts the noise in $z_t$. Its three conditions:
 # - **content** $c$: the VAE encoding of the content clip with its trajectory dims zeroed, passed through
-#   the **StyleRemover** — InstanceNorm over every token (removing per-token statistics, where style
-#   tends to live), a transformer layer, and a linear map from $N$ to $N-1$ tokens (a bottleneck). These
+#   the **StyleRemover** — InstanceNorm of every latent channel over the $N$ tokens (removing the
+#   statistics across tokens, as AdaIN removes them across time), a transformer layer, and a linear map
+#   from $N$ to $N-1$ tokens (a bottleneck). These
 #   tokens are *prepended* to the noisy tokens, and only the last $N$ outputs are read (B Eq. 6).
 # - **style** $s$: a frozen motion encoder pre-trained CLIP-style on the style corpus's captions (which
 #   name the style) — the workbook's MotionCLIP (§4). Its vector, plus the timestep embedding,
@@ -229,7 +231,7 @@ tr = load_mcm_ldm()
 model = tr.model
 print(f"denoiser: {model.cfg.blocks} blocks, width {model.cfg.width}, "
       f"{sum(p.numel() for p in model.parameters()) / 1e6:.2f} M parameters; "
-      f"{model.n_content} content tokens + {model.n} noisy tokens")
+      f"{model.n_content} content tokens + {model.m} noisy tokens ({model.p} latent token(s) each)")
 
 # %% [markdown]
 # ## 5. Sampling step by step
