@@ -165,6 +165,13 @@ def test_silhouette_purity_and_gram_known_answers():
     codes, labels = np.concatenate([a, b]), np.array(["x"] * 20 + ["y"] * 20)
     assert CA.silhouette(codes, labels) > 0.99
     assert CA.nearest_neighbour_purity(codes, labels, "x") == 1.0
+    assert CA.nn_accuracy(codes, labels) == 1.0
+    alternating = np.array(["p", "q"] * 20)  # a label that ignores the two clusters
+    scores = CA.code_scores(codes, labels, alternating)
+    assert scores["silhouette"] > 0.99 and scores["silhouette_by_content"] < 0.1
+    line = np.array([0.0, 1, 3, 4, 7, 8])[:, None]  # nearest neighbours pair up: (0, 1), (3, 4), (7, 8)
+    assert CA.nn_accuracy(line, np.array(list("aabbaa"))) == pytest.approx(1.0)
+    assert CA.nn_accuracy(line, np.array(list("ababab"))) == 0.0
     mixed = rng.normal(size=(40, 4))
     assert abs(CA.silhouette(mixed, labels)) < 0.1
     x = rng.normal(size=(10, 3))

@@ -38,10 +38,11 @@ UNSEEN = "depressed"
 
 
 # ---------------------------------------------------------------- held-out data
-def style_clips(style_folder, split: str = "test") -> tuple:
-    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels."""
+def style_clips(style_folder, split: str = "test", with_content: bool = False) -> tuple:
+    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels (and content labels)."""
     ds = MotionFolder(style_folder, split, normalize=False, labels=("style",))
-    return [ds._arrays(i)[0] for i in range(len(ds))], np.array([r["style"] for r in ds.rows])
+    out = [ds._arrays(i)[0] for i in range(len(ds))], np.array([r["style"] for r in ds.rows])
+    return out + (np.array([r["content"] for r in ds.rows]),) if with_content else out
 
 
 def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, split: str = "val") -> list:
@@ -78,6 +79,14 @@ def nearest_neighbour_purity(codes: np.ndarray, labels, label: str) -> float:
     np.fill_diagonal(d, np.inf)
     own = labels == label
     return float((labels[d[own].argmin(1)] == label).mean())
+
+
+def nn_accuracy(codes: np.ndarray, labels) -> float:
+    """Leave-one-out 1-nearest-neighbour accuracy (Euclidean): how often a code's nearest other code shares its label."""
+    labels = np.asarray(labels)
+    d = ((codes[:, None] - codes[None]) ** 2).sum(-1)
+    np.fill_diagonal(d, np.inf)
+    return float((labels[d.argmin(1)] == labels).mean())
 
 
 def tsne_2d(codes: np.ndarray, seed: int = 0) -> np.ndarray:
@@ -139,37 +148,43 @@ def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_s
     return model.eval(), history
 
 
-def _embedding(codes: np.ndarray, labels: np.ndarray, seed: int) -> dict:
-    """Silhouette of the codes themselves and their 2-D t-SNE (rounded, for the JSON)."""
-    return {"silhouette": silhouette(codes, labels),
-            "tsne": np.round(tsne_2d(codes, seed), 2).tolist()}
+def code_scores(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray) -> dict:
+    """How the style codes group: silhouette and 1-NN accuracy by style label, silhouette by content label."""
+    return {"silhouette": silhouette(codes, labels), "nn_accuracy": nn_accuracy(codes, labels),
+            "silhouette_by_content": silhouette(codes, contents)}
+
+
+def _embedding(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, seed: int) -> dict:
+    """`code_scores` of the codes themselves and their 2-D t-SNE (rounded, for the JSON)."""
+    return {**code_scores(codes, labels, contents), "tsne": np.round(tsne_2d(codes, seed), 2).tolist()}
 
 
 def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed: int = 0, n_pairs: int = 64,
                  progress: bool = True) -> dict:
     """Train the short runs and measure (a), (b), (d); returns a JSON-able dict (tables, silhouettes,
     t-SNE points of the held-out style codes, their labels)."""
-    clips, labels = style_clips(style_folder, "test")
+    clips, labels, contents = style_clips(style_folder, "test", with_content=True)
     pairs = held_out_pairs(content_folder, style_folder, n_pairs, seed)
     say = print if progress else (lambda *a, **k: None)
     results = {"command": COMMAND, "steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs),
-               "betas": list(BETAS), "labels": labels.tolist(), "sweep": [], "unseen_style": UNSEEN}
+               "betas": list(BETAS), "labels": labels.tolist(), "contents": contents.tolist(), "sweep": [],
+               "unseen_style": UNSEEN}
     t0 = time.time()
     for beta in BETAS:  # (b) C Table 1, γ = 0.3; β = 0.3 is also (a)'s "with"
         model, _ = short_run(content_folder, style_folder, steps, seed, beta=beta)
         codes = model.style_codes(clips)
-        row = {"beta": beta, **transfer_distances(model, pairs), "silhouette": silhouette(codes, labels)}
+        row = {"beta": beta, **transfer_distances(model, pairs), **code_scores(codes, labels, contents)}
         results["sweep"].append(row)
         if beta == 0.3:
-            results["with"] = _embedding(codes, labels, seed)
+            results["with"] = _embedding(codes, labels, contents, seed)
         say(f"β={beta}: {row} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, beta=0.0, gamma=0.0)  # (a) "without"
-    results["without"] = _embedding(model.style_codes(clips), labels, seed)
+    results["without"] = _embedding(model.style_codes(clips), labels, contents, seed)
     say(f"without contrastive terms: silhouette {results['without']['silhouette']:.3f} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, exclude_styles=(UNSEEN,))  # (d)
     codes = model.style_codes(clips)
     per = silhouette_per_label(codes, labels)
-    results["unseen"] = {**_embedding(codes, labels, seed), "per_style": per, "unseen_silhouette": per[UNSEEN],
+    results["unseen"] = {**_embedding(codes, labels, contents, seed), "per_style": per, "unseen_silhouette": per[UNSEEN],
                          "unseen_nn_purity": nearest_neighbour_purity(codes, labels, UNSEEN),
                          "chance_nn_purity": float((labels == UNSEEN).mean())}
     results["seconds"] = round(time.time() - t0, 1)
