@@ -135,3 +135,13 @@ def test_ddp_two_processes_on_gloo_end_with_identical_weights(tmp_path):
     torch.manual_seed(0)
     start = Linear()
     assert not torch.equal(start.lin.weight, a["lin.weight"])  # they trained, and agree
+
+
+def test_packaged_checkpoints_are_safe_small_and_current():
+    from mslib.checkpoints import PACKAGE_DIR
+    files = sorted(PACKAGE_DIR.glob("*.pt"))
+    assert len(files) >= 8, [f.name for f in files]
+    assert sum(f.stat().st_size for f in files) <= 40 * 2 ** 20  # issue 5: all together ≤ 40 MB
+    for f in files:
+        blob = read_checkpoint(f)  # weights_only=True, format version checked
+        assert blob["model"] == f.stem, f"{f.name} holds model {blob['model']!r}"
