@@ -308,11 +308,11 @@ def load_clusterstyle(path=None, device="cpu", name: str = NAME, stage: str = "s
 
 def train_configs(preset: str, seed: int = 0) -> dict:
     """Model config and the TrainConfig of each diffusion stage for a preset."""
-    if preset == "course":
+    if preset == "course":  # batch 32: the course VAE's temporal latent has 50 tokens per clip
         return {"model": ClusterStyleConfig.course(),
-                "t2m": TrainConfig(steps=1500, batch_size=128, lr=1e-3, warmup_steps=100, val_every=300,
+                "t2m": TrainConfig(steps=1500, batch_size=32, lr=1e-3, warmup_steps=100, val_every=300,
                                    time_budget_s=290.0, seed=seed),
-                "sma": TrainConfig(steps=1500, batch_size=128, lr=1e-3, warmup_steps=100, val_every=300,
+                "sma": TrainConfig(steps=1500, batch_size=32, lr=1e-3, warmup_steps=100, val_every=300,
                                    time_budget_s=290.0, seed=seed)}
     if preset == "paper":  # D §3.5: AdamW, batch 128, lr 2e-5, 500 warm-up then 3000 constant
         paper = TrainConfig(steps=3500, batch_size=128, lr=2e-5, warmup_steps=500, schedule="constant",
