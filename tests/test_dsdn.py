@@ -120,3 +120,15 @@ def test_course_checkpoint_loads_and_is_small():
     assert course_path("dsdn").stat().st_size <= 8 * 2**20
     f = _features(30)
     assert np.isfinite(m.correct_features(f)).all()
+
+
+@pytest.mark.skipif(not (course_path("dsdn").is_file() and course_path("adain").is_file()),
+                    reason="course checkpoints not trained yet")
+def test_stage_two_smooths_the_transfers_and_slides_the_feet_less():
+    from mslib.evaluation.bench import get_method, load_pairs
+    from mslib.evaluation.metrics import foot_slide_fsf, jitter
+    pairs = load_pairs(0, 40)
+    outs = {m: [get_method(m)(c, s) for c, s in pairs] for m in ("adain", "adain+dsdn")}
+    jit = {m: np.mean([jitter(o) for o in v]) for m, v in outs.items()}
+    fsf = {m: np.mean([foot_slide_fsf(o) for o in v]) for m, v in outs.items()}
+    assert jit["adain+dsdn"] < jit["adain"] and fsf["adain+dsdn"] < fsf["adain"]
