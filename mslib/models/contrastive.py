@@ -7,6 +7,13 @@ random and never labelled; M^G = G(E_c(M^T) | E_s(M^S)). Losses: C Eq. 1 reconst
 adversarial (non-saturating form), C Eq. 3 InfoNCE with a bilinear score on content codes,
 C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 
+Course preset only (`content_skip=True`, a departure from C, whose G sees only the two codes): G's
+output is added to the target's movement around its time mean, so G supplies the posture and any change
+of the movement. It trains in CPU minutes (the paper-literal variant, `content_skip=False,
+content_norm=False`, scores lower on a validation draw: `tools/contrastive_findings.py`), but the
+movement bypasses E_c, leaving InfoNCE little to enforce, and the posture comes from the style code
+alone, so the style clip's content can leak into the transfer (measured in notebook 03).
+
 The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
 on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
 given `parameters=model.generator_parameters()`.
