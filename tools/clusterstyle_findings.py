@@ -135,9 +135,12 @@ def main(argv=None) -> int:
         print("bench", json.dumps(result["bench"]), flush=True)
     result.pop("command", None)  # older files: one command for the whole file
     command = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
+    from mslib.models.vae import load_vae
+    vae_cfg = load_vae().cfg
     for key in ("fig5", "table3", "bench"):
-        if key in todo:
-            result[key]["command"] = command  # which run wrote this section
+        if key in todo:  # which run wrote this section, and on which course VAE latent
+            result[key]["command"] = command
+            result[key]["vae_latent"] = [vae_cfg.latent_tokens, vae_cfg.latent_dim]
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps({k: v for k, v in result.items() if k != "fig5"} | {"fig5": result.get("fig5", {}).get("summary")}))

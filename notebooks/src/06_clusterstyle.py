@@ -189,7 +189,7 @@ for c, s in enumerate(STYLES):
 # %% [markdown]
 # ## 5. The Stylistic Modulation Adapter
 # The generator is a text-to-motion latent diffusion model (the role of MLD in D): the shared motion
-# VAE compresses a clip to a few latent tokens $z_0$, and a transformer denoiser predicts the noise in
+# VAE compresses a clip to a short sequence of latent tokens $z_0$, and a transformer denoiser predicts the noise in
 # $z_t = \sqrt{\bar\alpha_t}z_0 + \sqrt{1-\bar\alpha_t}\,\varepsilon$ from the caption. It is pre-trained on the
 # content corpus (`python -m mslib train clusterstyle_t2m --preset course --seed 0`), with a small
 # learned text encoder in a pluggable slot (D uses frozen CLIP). The SMA adds, in every block, a second
@@ -281,6 +281,11 @@ _ = fig
 # %%
 FINDINGS = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "06_clusterstyle_findings.json"
 findings = json.loads(FINDINGS.read_text()) if FINDINGS.is_file() else {}
+latent_now = [pipe.vae.cfg.latent_tokens, pipe.vae.cfg.latent_dim]
+for key, part in findings.items():  # a section measured on another course VAE than the packaged one
+    if isinstance(part, dict) and part.get("vae_latent") != latent_now:
+        print(f"note: the '{key}' findings were measured with VAE latent {part.get('vae_latent', 'unrecorded (an older VAE)')}, "
+              f"not the packaged {latent_now[0]}x{latent_now[1]}: re-run python tools/clusterstyle_findings.py --only {key}")
 if "fig5" in findings:
     print(f"{'style':<10} {'transfer: protos':>17} {'seeds':>6}   {'generate: protos':>17} {'seeds':>6}   (cm)")
     for r in findings["fig5"]["rows"]:
@@ -358,25 +363,26 @@ print(f"H ≥ 0.60: {h['clusterstyle'] >= 0.60}; above identity and copy_style: 
       f"{h['clusterstyle'] > max(h['identity'], h['copy_style'])}")
 
 # %% [markdown]
-# ### Why so little style? The latent space sets a ceiling
-# Every output of a latent diffusion model is a decoding of the VAE. So push the *reference style clips
-# themselves* through the shared course VAE (encode, decode) and ask the same style classifier:
+# ### The latent space sets a ceiling
+# Every output of a latent diffusion model is a decoding of the VAE, so an output can be no more stylised
+# than what the decoder can express. Push the *reference style clips themselves* through the shared
+# course VAE (encode, decode) and ask the same style classifier:
 
 # %%
 vae = pipe.vae
 raw = [style_test[i]["features"].numpy().astype(np.float64) for i in range(len(style_test))]
 rec = vae.decode_raw(vae.encode_raw(raw), [len(r) for r in raw])
 true = np.array([evaluator.style.classes.index(style_test.rows[i]["style"]) for i in range(len(style_test))])
+print(f"course VAE latent: {vae.cfg.latent_tokens} tokens x {vae.cfg.latent_dim} ({vae.cfg.arch})")
 for name, motions in (("the style test clips", [decode(r) for r in raw]), ("their VAE reconstructions", [decode(r) for r in rec])):
     acc = float((evaluator.style.score(motions)[0].argmax(1) == true).mean())
     print(f"style classifier on {name:<26} {100 * acc:5.1f}%")
 
 # %% [markdown]
-# The course VAE (4 latent tokens × 64, shared with paper B, trained for CPU minutes) keeps the gross
-# motion but smooths away most of what tells the styles apart; a ClusterStyle output cannot be more
-# stylised than what the decoder can express, so SRA stays low however the adapter or the guidance is
-# set. A larger latent (paper D's MLD VAE has more capacity and was trained for days) lifts this ceiling:
-# that is the first thing to change with a GPU (`--preset paper`).
+# The gap between the two lines is style the decoder cannot give back, whatever the adapter or the
+# guidance do. (An earlier course VAE, 4 tokens × 64, lost most of it; the temporal conv latent keeps
+# much more.) Whatever lies between this ceiling and the bench SRA is up to the denoiser and the adapter,
+# here trained for CPU minutes.
 
 # %% [markdown]
 # ## Exercise: Sinkhorn–Knopp by hand
