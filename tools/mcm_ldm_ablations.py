@@ -3,6 +3,7 @@ packaged model, scored by the independent evaluator on benchmark pairs; writes n
 
     python tools/mcm_ldm_ablations.py [--steps 600] [--pairs 100] [--only full,no_remover,...]
 
+The JSON records the packaged VAE's latent (arch, tokens, width); rows measured through another VAE are stale.
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
 (use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
 λ ∈ {0, 1, 2.5, 5}. Rows already in the JSON are kept unless re-run.
@@ -71,7 +72,11 @@ def main(argv=None) -> int:
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
     order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]
+    from mslib.models.vae import load_vae
+    vcfg = load_vae().cfg  # the VAE every row was measured through (the notebook checks it still matches)
     data = {"pairs": args.pairs, "seed": 0, "steps": args.steps,
+            "vae": {"arch": getattr(vcfg, "arch", "transformer"), "latent_tokens": vcfg.latent_tokens,
+                    "latent_dim": vcfg.latent_dim},
             "command": "python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:]),
             "rows": [rows[k] for k in order if k in rows]}
     OUT.parent.mkdir(parents=True, exist_ok=True)

@@ -52,10 +52,12 @@ print(len(content_test), "content test clips,", len(style_test), "style test cli
 #
 # $$\mathcal{L}_{VAE} = \lVert x - D(z)\rVert^2 + \beta_{KL}\,\mathrm{KL}\big(q(z\mid x)\,\Vert\,\mathcal N(0, I)\big),\quad z\sim q(z\mid x).$$
 #
-# The paper's latent is 7 tokens × 256; the course VAE (trained with
-# `python -m mslib train vae --preset course --seed 0`) is smaller so it trains on a CPU in minutes.
-# It folds 4 frames into one token before its transformer. Its latent is divided by `latent_scale`
-# (the spread of $\mu$ on the training set) so the diffusion model sees roughly unit-variance tokens.
+# The paper's latent is 7 tokens × 256 from such a transformer (`VAEConfig.preset("paper")`). The course
+# VAE (trained with `python -m mslib train vae --preset course --seed 0`) must learn in CPU minutes, and a
+# small transformer did not: it lost most of the style. So the course VAE is convolutional with a
+# *temporal* latent — one token per 4 frames of the clip (padded to 200 frames), each a short vector.
+# Its latent is divided by `latent_scale` (the spread of $\mu$ on the training set) so the diffusion model
+# sees roughly unit-variance tokens.
 
 # %%
 vae = V.load_vae() if course_path("vae").is_file() else None
@@ -63,8 +65,8 @@ if vae is None:  # train it (a few minutes) when the packaged checkpoint is miss
     V.run("course", paths["content"], paths["style"], progress=True)
     vae = V.load_vae()
 cfg = vae.cfg
-print(f"latent: {cfg.latent_tokens} tokens x {cfg.latent_dim}, width {cfg.dim}, {cfg.layers}+{cfg.layers} layers, "
-      f"{sum(p.numel() for p in vae.parameters()) / 1e6:.2f} M parameters")
+print(f"{getattr(cfg, 'arch', 'transformer')} VAE, latent: {cfg.latent_tokens} tokens x {cfg.latent_dim}, "
+      f"width {cfg.dim}, {sum(p.numel() for p in vae.parameters()) / 1e6:.2f} M parameters")
 
 # %% [markdown]
 # Reconstruction error on held-out clips, as joint positions: decode the original and the
@@ -152,6 +154,10 @@ _ = fig
 # - **trajectory** $\tau$: the content's root angular and XZ velocities (3 dims per frame) through a small
 #   transformer with a summary token; plus the timestep it drives the **MLP** branch (B Eq. 8):
 #   $h \leftarrow h + g_\tau\cdot \mathrm{MLP}\big(\mathrm{LN}(h)(1+\gamma_\tau)+\beta_\tau\big)$.
+#
+# The course latent is long (one token per 4 frames), so the denoiser groups $p$ consecutive latent tokens
+# into one of its tokens (`MCMConfig.patch`; the StyleRemover's InstanceNorm still acts on the latent's own
+# tokens, i.e. over time); with the paper's 7 tokens, $p = 1$.
 #
 # "Zero": the linear layers producing $(\beta, \gamma, g)$ start at zero, so every block starts as the
 # identity and the conditions are let in gradually.
@@ -348,8 +354,13 @@ _ = fig
 import json
 from pathlib import Path
 abl_path = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "04_ablations.json"
-if abl_path.is_file():
-    abl = json.loads(abl_path.read_text())
+abl = json.loads(abl_path.read_text()) if abl_path.is_file() else None
+now = {"arch": getattr(cfg, "arch", "transformer"), "latent_tokens": cfg.latent_tokens, "latent_dim": cfg.latent_dim}
+stale = abl is not None and abl.get("vae") != now
+if stale:
+    print(f"STALE: these rows were measured through another VAE ({abl.get('vae', 'not recorded')}), not the packaged "
+          f"one ({now}); rerun `python tools/mcm_ldm_ablations.py` to measure them again")
+if abl is not None:
     print(f"{abl['pairs']} pairs, switches trained {abl['steps']} steps; made by: {abl['command'].strip()}")
     print(f"{'variant':<30} {'CRA':>6} {'SRA':>6} {'H':>6} {'TSI':>6} {'FSF':>6}")
     for r in abl["rows"]:
@@ -374,7 +385,7 @@ def acc_se(a, b, n):
     """Standard error (points) of the difference of two accuracies (%) measured on n pairs each."""
     return 100 * ((a / 100 * (1 - a / 100) + b / 100 * (1 - b / 100)) / n) ** 0.5
 
-if abl_path.is_file():
+if abl is not None and not stale:
     r, n = {row["key"]: row for row in abl["rows"]}, abl["pairs"]
     claims = []
     if {"full", "no_remover"} <= set(r):
