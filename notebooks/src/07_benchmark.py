@@ -17,15 +17,21 @@ import mslib
 mslib.setup_notebook(seed=0)
 
 import numpy as np
+import torch
 import matplotlib.pyplot as plt
 from IPython.display import HTML
+
+# The models are small: one thread is faster than several, and every printed number is then
+# independent of how many cores the machine has (as in notebook 04).
+torch.set_num_threads(1)
 
 from mslib import viz
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
 from mslib.evaluation import metrics as M
-from mslib.models.registry import DESCRIPTIONS, get_method
+from mslib.models.registry import DESCRIPTIONS, get_method, known_methods
 
 METHODS = ["identity", "copy_style", "adain", "adain+dsdn", "contrastive", "mcm_ldm", "clusterstyle"]
+assert set(METHODS) <= set(known_methods())  # importing the model modules registers their methods
 for m in METHODS:
     print(f"{m:<13} {DESCRIPTIONS[m]}")
 
