@@ -223,4 +223,5 @@ def _bench_factory(device="cpu"):
     def transfer(content: dict, style: dict) -> np.ndarray:
         raw = pipe.transfer(content["features"], style["features"], caption=content.get("caption") or None, seed=0)
         return decode(raw)
+    transfer.n_parameters = sum(p.numel() for m in (pipe.model, pipe.vae) for p in m.parameters())
     return transfer
