@@ -153,7 +153,7 @@ def test_pose_diversity_known_answers():
 def test_packaged_checkpoint_loads_and_transfers():
     from mslib.models.clusterstyle_guidance import load_pipeline
     pipe = load_pipeline()
-    lam = [float(b.sma.lam) for b in pipe.model.denoiser.blocks]
+    lam = [float(b.sma.lam.detach()) for b in pipe.model.denoiser.blocks]
     assert any(abs(v - 1.0) > 1e-3 for v in lam)  # λ was trained
     assert bool(pipe.model.style.global_bank.frozen)
     out = pipe.transfer(walk_features(40), walk_features(32), "a person walks forward", seed=0)
