@@ -16,6 +16,11 @@ def tiny(**kw):
     return V.MotionVAE(cfg)
 
 
+def tiny_conv():
+    return V.MotionVAE(V.VAEConfig(arch="conv", latent_tokens=16, latent_dim=4, dim=16, layers=3, max_len=64,
+                                   min_len=8, down=4))
+
+
 def test_shapes_and_padding_invariance():
     torch.manual_seed(0)
     vae = tiny().eval()
@@ -44,9 +49,10 @@ def test_bad_input_names_the_argument():
         V.VAEConfig.preset("huge")
 
 
-def test_learns_to_reconstruct_a_few_clips():
+@pytest.mark.parametrize("arch", ["transformer", "conv"])
+def test_learns_to_reconstruct_a_few_clips(arch):
     torch.manual_seed(0)
-    vae = tiny()
+    vae = tiny() if arch == "transformer" else tiny_conv()
     t = torch.linspace(0, 3, 24)
     clips = [torch.sin(t[:, None] + torch.linspace(0, 3, 263) * k) for k in range(4)]
     x, mask = V.pad_batch(clips)
@@ -57,7 +63,7 @@ def test_learns_to_reconstruct_a_few_clips():
         opt.zero_grad()
         terms["loss"].backward()
         opt.step()
-    assert float(terms["rec"]) < 0.4 * first and float(terms["kl"]) > 0
+    assert float(terms["rec"]) < (0.4 if arch == "transformer" else 0.2) * first and float(terms["kl"]) > 0
 
 
 def test_packaged_checkpoint_reconstructs_held_out_clips():
@@ -74,11 +80,6 @@ def test_packaged_checkpoint_reconstructs_held_out_clips():
     assert 100 * float(np.mean(errs)) <= 5.0  # root-relative MPJPE, cm (issue 9's bar)
     assert 0.05 < float(vae.latent_scale) < 100  # calibrated after training
     assert course_path("vae").stat().st_size <= 10 * 2 ** 20
-
-
-def tiny_conv():
-    return V.MotionVAE(V.VAEConfig(arch="conv", latent_tokens=16, latent_dim=4, dim=16, layers=3, max_len=64,
-                                   min_len=8, down=4))
 
 
 def test_conv_vae_has_a_temporal_latent_of_fixed_length():
@@ -100,19 +101,3 @@ def test_conv_vae_has_a_temporal_latent_of_fixed_length():
         V.VAEConfig(arch="conv", latent_tokens=7, max_len=64)
     with pytest.raises(ValueError, match="arch"):
         V.VAEConfig(arch="rnn")
-
-
-def test_conv_vae_learns_to_reconstruct_a_few_clips():
-    torch.manual_seed(0)
-    vae = tiny_conv()
-    t = torch.linspace(0, 3, 24)
-    clips = [torch.sin(t[:, None] + torch.linspace(0, 3, 263) * k) for k in range(4)]
-    x, mask = V.pad_batch(clips)
-    opt = torch.optim.Adam(vae.parameters(), lr=3e-3)
-    first = float(vae.loss_terms(x, mask)["rec"])
-    for _ in range(60):
-        terms = vae.loss_terms(x, mask)
-        opt.zero_grad()
-        terms["loss"].backward()
-        opt.step()
-    assert float(terms["rec"]) < 0.2 * first and float(terms["kl"]) > 0
