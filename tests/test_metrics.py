@@ -308,3 +308,18 @@ def test_metrics_do_not_import_models():
     mods = [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
     mods += [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
     assert not [m for m in mods if "models" in m], mods
+
+
+def test_transfer_noise_measures_each_adain_half():
+    class Shift:  # mean-only moves the pose by 1 m, variance-only leaves it
+        def transfer(self, content, style, use_mean=True, use_std=True):
+            return decode(np.asarray(content)) + (1.0 if use_mean else 0.0)
+    from mslib.evaluation.metrics import ADAIN_HALVES, transfer_noise
+    from mslib.motion.features import decode, encode
+    rng = np.random.default_rng(0)
+    joints = np.cumsum(rng.normal(scale=0.01, size=(12, 22, 3)), 0) + np.array([0, 1.0, 0])
+    c = {"joints": decode(encode(joints)), "features": encode(joints)}
+    out = transfer_noise(Shift(), [(c, c), (c, c)])
+    assert list(out) == ["content", *ADAIN_HALVES] and all(len(v) == 2 for v in out.values())
+    assert out["variance only"][0][1] < 1e-9 and abs(out["mean only"][0][1] - np.sqrt(3)) < 1e-6
+    assert abs(out["full"][0][0] - out["content"][0][0]) < 1e-4 * out["content"][0][0]  # a shift adds no jitter

@@ -290,3 +290,17 @@ def pose_offset(a, b) -> float:
     pb = _positions(b, "b", min_frames=1)
     n = min(len(pa), len(pb))
     return float(np.linalg.norm(pa[:n] - pb[:n], axis=-1).mean())  # (1/(n·22)) Σ_{t,j} ‖a_tj − b_tj‖
+
+
+# A Fig. 2: AdaIN's two halves — (use_mean, use_std) switches of an AdaIN transfer
+ADAIN_HALVES = {"full": (True, True), "variance only": (False, True), "mean only": (True, False)}
+
+
+def transfer_noise(model, pairs, halves=ADAIN_HALVES) -> dict:
+    """Per pair, (jitter, pose offset to the content) of the content and of each half's transfer (A Fig. 2)."""
+    out = {"content": [(jitter(c["joints"]), 0.0) for c, _ in pairs]}
+    for name, (use_mean, use_std) in halves.items():
+        moved = [(c, model.transfer(c["features"], s["features"], use_mean=use_mean, use_std=use_std))
+                 for c, s in pairs]
+        out[name] = [(jitter(m), pose_offset(m, c["joints"])) for c, m in moved]
+    return out

@@ -198,16 +198,10 @@ HTML(viz.animation_html([walk["joints"].numpy()] + [outputs[s] for s in ("angry"
 
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
-from mslib.evaluation.metrics import jitter, pose_offset
+from mslib.evaluation.metrics import ADAIN_HALVES as modes, transfer_noise
 
 pairs = load_pairs(seed=0, n_pairs=200)
-modes = {"full": (True, True), "variance only": (False, True), "mean only": (True, False)}
-fig2 = {name: [] for name in ("content",) + tuple(modes)}
-for c, s in pairs[:40]:
-    fig2["content"].append((jitter(c["joints"]), 0.0))
-    for name, (use_mean, use_std) in modes.items():
-        out = model.transfer(c["features"], s["features"], use_mean=use_mean, use_std=use_std)
-        fig2[name].append((jitter(out), pose_offset(out, c["joints"])))
+fig2 = transfer_noise(model, pairs[:40])  # per pair: (jitter, pose offset) of the content and each half
 print(f"{'transfer':<14} {'jitter m/s²':>11} {'pose offset m':>13}")
 for name, vals in fig2.items():
     j, o = np.mean(vals, 0)

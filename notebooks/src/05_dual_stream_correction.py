@@ -33,7 +33,7 @@ from mslib import viz
 from mslib.checkpoints import read_checkpoint, course_path
 from mslib.data.corpora import load_builtin
 from mslib.evaluation.bench import Evaluator, format_table, get_method, load_pairs, run_bench
-from mslib.evaluation.metrics import jitter, pose_offset
+from mslib.evaluation.metrics import jitter, pose_offset, transfer_noise
 from mslib.models import dsdn as D
 from mslib.models.adain import load_adain
 from mslib.motion.features import decode
@@ -49,12 +49,7 @@ pairs = load_pairs(seed=0, n_pairs=200)
 # for the dynamic noise, **pose offset** (mean joint distance to the content, m) for the static noise.
 
 # %%
-noise = {"content": [], "full": [], "variance only": [], "mean only": []}
-for c, s in pairs[:40]:
-    noise["content"].append((jitter(c["joints"]), 0.0))
-    for name, (m, v) in (("full", (True, True)), ("variance only", (False, True)), ("mean only", (True, False))):
-        out = stage1.transfer(c["features"], s["features"], use_mean=m, use_std=v)
-        noise[name].append((jitter(out), pose_offset(out, c["joints"])))
+noise = transfer_noise(stage1, pairs[:40])  # the measurement of notebook 02 (mslib.evaluation.metrics)
 print(f"{'stage 1':<14} {'jitter m/s²':>11} {'pose offset m':>13}")
 for name, vals in noise.items():
     j, o = np.mean(vals, 0)
