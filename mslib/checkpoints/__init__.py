@@ -74,3 +74,10 @@ def load_state(path, model: torch.nn.Module, model_name: str | None = None) -> d
                          "another config or preset?")
     model.load_state_dict(theirs)
     return blob
+
+
+def load_model(path, model_name: str, build, device="cpu") -> torch.nn.Module:
+    """`build(config)` from a checkpoint's config, its weights loaded (names and shapes checked), eval mode on `device`."""
+    model = build(read_checkpoint(path, model_name)["config"])
+    load_state(path, model, model_name)
+    return model.to(device).eval()

@@ -16,7 +16,7 @@ import torch
 from torch import nn
 from torch.utils.data import Dataset
 
-from ..checkpoints import course_path, load_state
+from ..checkpoints import course_path, load_model
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
 from ..training import TrainConfig, fit
@@ -245,12 +245,7 @@ def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cp
 
 def load_adain(path=None, device="cpu") -> AdainTransfer:
     """The stage-1 model from a checkpoint (default: the packaged course one)."""
-    from ..checkpoints import read_checkpoint
-    path = path or course_path("adain")
-    blob = read_checkpoint(path, "adain")
-    model = AdainTransfer(blob["config"])
-    load_state(path, model, "adain")
-    return model.to(device).eval()
+    return load_model(path or course_path("adain"), "adain", AdainTransfer, device)
 
 
 def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:

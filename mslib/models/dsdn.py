@@ -17,7 +17,7 @@ import torch
 from torch import nn
 from torch.utils.data import Dataset, TensorDataset
 
-from ..checkpoints import course_path, load_state, read_checkpoint
+from ..checkpoints import course_path, load_model
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import N_FEATURES, check_features, decode
 from ..training import TrainConfig, fit
@@ -217,10 +217,7 @@ def train_dsdn(preset: str, content, style, seed: int = 0, out=None, device="cpu
 
 def load_dsdn(path=None, device="cpu") -> DSDN:
     """The stage-2 model from a checkpoint (default: the packaged course one)."""
-    path = path or course_path("dsdn")
-    model = DSDN(read_checkpoint(path, "dsdn")["config"])
-    load_state(path, model, "dsdn")
-    return model.to(device).eval()
+    return load_model(path or course_path("dsdn"), "dsdn", DSDN, device)
 
 
 def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
