@@ -113,6 +113,18 @@ def test_benchmark_pairs_reproducible_per_seed(small):
     assert len(pairs) == 24 and item["content"]["clip_id"] == a[0][0] and item["style"]["clip_id"] == a[0][1]
 
 
+def test_validation_pairs_never_touch_the_test_split(small):
+    out = small[0]
+    v = benchmark_pairs(out / "content", out / "style", n_pairs=16, seed=3, split="val")
+    split = {r["clip_id"]: r["split"] for d in ("content", "style") for r in read_labels(out / d)}
+    assert {split[c] for pair in v for c in pair} == {"val"}
+    assert BenchmarkPairs(out / "content", out / "style", pairs=v, split="val")[0]["style"]["clip_id"] == v[0][1]
+    with pytest.raises(ValueError, match="outside the test splits"):
+        BenchmarkPairs(out / "content", out / "style", pairs=v)
+    with pytest.raises(ValueError, match="split"):
+        benchmark_pairs(out / "content", out / "style", split="holdout")
+
+
 def test_cache_reuse_force_and_refusal(small, tmp_path):
     out, _ = small
     stamp = (out / "build.json").stat().st_mtime_ns

@@ -92,6 +92,32 @@ def test_patches_group_consecutive_latent_tokens():
         M.MCMLDM(M.MCMConfig(width=32, heads=2, blocks=1, patch=4), latent_tokens=6, latent_dim=8, style_dim=6)
 
 
+def test_per_token_trajectory_condition_follows_the_denoiser_tokens():
+    torch.manual_seed(0)
+    m = tiny(traj_frames=12)  # 3 denoiser tokens, 4 frames each
+    for p in m.parameters():  # wake the zero-initialised gates
+        torch.nn.init.normal_(p, std=0.1)
+    m.eval()
+    g = torch.Generator().manual_seed(0)
+    zc, style, traj = torch.randn(1, 3, 8, generator=g), torch.randn(1, 6, generator=g), torch.randn(1, 10, 3, generator=g)
+    mask = torch.ones(1, 10, dtype=torch.bool)
+    cond = m.conditions(zc, style, traj, mask)
+    assert cond["traj"].shape == (1, 3, 32)  # one trajectory condition per denoiser token
+    z, t = torch.randn(1, 3, 8), torch.tensor([400])
+    assert m.denoise(z, t, cond).shape == (1, 3, 8)
+    shuffled = m.conditions(zc, style, traj.flip(1), mask)  # the same frames in another order
+    assert not torch.allclose(m.denoise(z, t, shuffled), m.denoise(z, t, cond), atol=1e-4)
+    masked = mask.clone()
+    masked[:, 8:] = False  # frames past the clip's length are padding, whatever they hold
+    other = traj.clone()
+    other[:, 8:] += 5.0
+    assert torch.allclose(m.conditions(zc, style, traj, masked)["traj"], m.conditions(zc, style, other, masked)["traj"])
+    with pytest.raises(ValueError, match="latent spans"):
+        m.conditions(zc, style, torch.randn(1, 13, 3), torch.ones(1, 13, dtype=torch.bool))
+    with pytest.raises(ValueError, match="traj_frames"):
+        tiny(traj_frames=10)  # 10 frames do not split into 3 tokens
+
+
 def test_cfg_sample_scale_one_is_the_conditional_model():
     torch.manual_seed(0)
     m = tiny()

@@ -150,21 +150,24 @@ def collate_motions(items: list) -> dict:
 
 
 # ---------------------------------------------------------------- benchmark pairs
-def _test_rows(folder) -> list:
-    rows = [r for r in read_labels(folder) if r["split"] == "test"]
+def _split_rows(folder, split: str) -> list:
+    if split not in SPLITS:
+        raise ValueError(f"split: must be one of {SPLITS}, got {split!r}")
+    rows = [r for r in read_labels(folder) if r["split"] == split]
     if not rows:
-        raise ValueError(f"{folder}: has no test clips to draw benchmark pairs from")
+        raise ValueError(f"{folder}: has no {split} clips to draw pairs from")
     return sorted(rows, key=lambda r: r["clip_id"])
 
 
-def benchmark_pairs(content_folder, style_folder, n_pairs: int = 500, seed: int = 0) -> list:
-    """A fixed draw of (content test clip id, style test clip id) pairs: styles in turn, clips at
-    random; the same seed always gives the same pairs, another seed another draw."""
+def benchmark_pairs(content_folder, style_folder, n_pairs: int = 500, seed: int = 0, split: str = "test") -> list:
+    """A fixed draw of (content clip id, style clip id) pairs from one split (the benchmark: "test";
+    design choices are tuned on "val"): styles in turn, clips at random; the same seed always gives
+    the same pairs, another seed another draw."""
     if int(n_pairs) < 1:
         raise ValueError(f"n_pairs: must be at least 1, got {n_pairs}")
-    content = [r["clip_id"] for r in _test_rows(content_folder)]
+    content = [r["clip_id"] for r in _split_rows(content_folder, split)]
     by_style: dict = {}
-    for r in _test_rows(style_folder):
+    for r in _split_rows(style_folder, split):
         by_style.setdefault(r["style"], []).append(r["clip_id"])
     styles = [s for s in STYLES if s in by_style] + sorted(set(by_style) - set(STYLES))
     rng = np.random.default_rng([int(seed), 4242])
@@ -198,16 +201,16 @@ class BenchmarkPairs(Dataset):
     `n_pairs` from `seed` (`benchmark_pairs`)."""
 
     def __init__(self, content_folder, style_folder, n_pairs: int = 500, seed: int = 0, pairs=None,
-                 **kwargs):
+                 split: str = "test", **kwargs):
         self.pairs = list(pairs) if pairs is not None else benchmark_pairs(content_folder, style_folder,
-                                                                           n_pairs, seed)
-        self.content = ContentClips(content_folder, split="test", with_style=True, **kwargs)
-        self.style = StyleClips(style_folder, split="test", **kwargs)
+                                                                           n_pairs, seed, split)
+        self.content = ContentClips(content_folder, split=split, with_style=True, **kwargs)
+        self.style = StyleClips(style_folder, split=split, **kwargs)
         self._ci = {cid: i for i, cid in enumerate(self.content.clip_ids)}
         self._si = {cid: i for i, cid in enumerate(self.style.clip_ids)}
         missing = [p for p in self.pairs if p[0] not in self._ci or p[1] not in self._si]
         if missing:
-            raise ValueError(f"pairs: {len(missing)} pair(s) name clips outside the test splits, e.g. {missing[0]}")
+            raise ValueError(f"pairs: {len(missing)} pair(s) name clips outside the {split} splits, e.g. {missing[0]}")
 
     def __len__(self) -> int:
         return len(self.pairs)

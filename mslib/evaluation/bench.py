@@ -43,15 +43,16 @@ def _copy_style(device="cpu"):
 
 
 # ---------------------------------------------------------------- running
-def load_pairs(seed: int = 0, n_pairs: int = 200, content_dir=None, style_dir=None):
-    """The held-out pairs as (content item, style item) dicts with unnormalised numpy arrays."""
+def load_pairs(seed: int = 0, n_pairs: int = 200, content_dir=None, style_dir=None, split: str = "test"):
+    """Held-out pairs as (content item, style item) dicts with unnormalised numpy arrays; the benchmark
+    draws from "test", design choices are made on a "val" draw."""
     from ..data.corpora import load_builtin
     from ..data.datasets import BenchmarkPairs
     if content_dir is None or style_dir is None:
         paths = load_builtin(progress=False)
         content_dir = content_dir or paths["content"]
         style_dir = style_dir or paths["style"]
-    ds = BenchmarkPairs(content_dir, style_dir, n_pairs=n_pairs, seed=seed, normalize=False, joints=True)
+    ds = BenchmarkPairs(content_dir, style_dir, n_pairs=n_pairs, seed=seed, split=split, normalize=False, joints=True)
     out = []
     for k in range(len(ds)):
         item = ds[k]

@@ -44,6 +44,7 @@ class MCMConfig:
     mlp_ratio: int = 4
     traj_layers: int = 2
     traj_down: int = 1  # frames per trajectory token (1 = every frame, as released)
+    traj_frames: int = 0  # 0: the trajectory is one vector (B Eq. 8); F > 0: one per denoiser token, F = frames the latent spans
     remover_layers: int = 1
     remover_norm: str = "channel"  # InstanceNorm axis of the StyleRemover ("channel" over tokens, or "token")
     content_bottleneck: int = 0  # 0: none (paper); else the width of a narrow layer on each content token
@@ -75,9 +76,14 @@ class MCMConfig:
         return cls(**{k: v for k, v in d.items() if k in known})
 
 
+def per_token(m: torch.Tensor) -> torch.Tensor:
+    """A modulation as (B, L or 1, D): (B, D) is broadcast over tokens, (B, L, D) is one per token."""
+    return m[:, None] if m.dim() == 2 else m
+
+
 def modulate(x: torch.Tensor, shift: torch.Tensor, scale: torch.Tensor) -> torch.Tensor:
-    """AdaLN: x·(1 + scale) + shift with (B, D) modulations broadcast over tokens."""
-    return x * (1 + scale[:, None]) + shift[:, None]
+    """AdaLN: x·(1 + scale) + shift, modulations (B, D) for every token or (B, L, D) per token."""
+    return x * (1 + per_token(scale)) + per_token(shift)
 
 
 class Block(nn.Module):
@@ -100,8 +106,8 @@ class Block(nn.Module):
         s1, k1, g1 = self.ada_attn(c_style).chunk(3, -1)  # (B, W) each
         a = modulate(self.norm1(h), s1, k1)
         h = h + g1[:, None] * self.attn(a, a, a, need_weights=False)[0]  # B Eq. 7
-        s2, k2, g2 = self.ada_mlp(c_traj).chunk(3, -1)
-        return h + g2[:, None] * self.mlp(modulate(self.norm2(h), s2, k2))  # B Eq. 8
+        s2, k2, g2 = self.ada_mlp(c_traj).chunk(3, -1)  # (B, W) or (B, L, W) each
+        return h + per_token(g2) * self.mlp(modulate(self.norm2(h), s2, k2))  # B Eq. 8
 
 
 def auto_patch(tokens: int, most: int = 12) -> int:
@@ -144,11 +150,18 @@ class StyleRemover(nn.Module):
 
 
 class TrajectoryEncoder(nn.Module):
-    """(B, T, 3) root velocities → linear per frame, `down` frames per token, a summary token, transformer → (B, W)."""
+    """(B, T, 3) root velocities → linear per frame, `down` frames per token, a summary token, transformer → (B, W).
 
-    def __init__(self, width: int, heads: int, layers: int, down: int = 1):
+    With `tokens` = m > 0 (course, for a temporal latent): the trajectory is padded to `frames`, folded
+    into m segments aligned with the m denoiser tokens, and encoded to (B, m, W), one condition per token."""
+
+    def __init__(self, width: int, heads: int, layers: int, down: int = 1, tokens: int = 0, frames: int = 0):
         super().__init__()
-        self.down = down
+        if tokens:
+            if frames < tokens or frames % tokens:
+                raise ValueError(f"traj_frames: {frames} frames do not split into {tokens} denoiser tokens")
+            down = frames // tokens
+        self.down, self.tokens, self.frames = down, int(tokens), int(frames)
         self.inp = nn.Linear(3, width)
         self.fold = nn.Conv1d(width, width, down, stride=down)
         self.summary = nn.Parameter(torch.zeros(1, 1, width))
@@ -158,6 +171,12 @@ class TrajectoryEncoder(nn.Module):
     def forward(self, traj: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
         B, T, _ = traj.shape
         k = self.down
+        if self.tokens:  # per token: zero-padded to the latent's frames, as the VAE pads the clip
+            if T > self.frames:
+                raise ValueError(f"traj: {T} frames, the latent spans at most {self.frames}")
+            traj = torch.cat([traj * mask[..., None].to(traj.dtype), traj.new_zeros(B, self.frames - T, 3)], 1)
+            h = self.fold(self.inp(traj).transpose(1, 2)).transpose(1, 2)  # (B, m, W)
+            return self.body(self.pos(h))  # (B, m, W): token i sees all, its own segment in its input
         Tk = -(-T // k) * k
         traj = torch.cat([traj, traj[:, -1:].expand(B, Tk - T, -1)], 1)
         h = self.fold(self.inp(traj).transpose(1, 2)).transpose(1, 2)  # (B, T/k, W)
@@ -192,7 +211,8 @@ class MCMLDM(nn.Module):
         self.token_pos = nn.Parameter(torch.randn(1, self.n_content + self.m, W) * 0.02)
         self.time = TimestepEmbedding(W)
         self.style_proj = nn.Linear(int(style_dim), W)
-        self.traj = TrajectoryEncoder(W, cfg.heads, cfg.traj_layers, cfg.traj_down) if cfg.use_traj else None
+        self.traj = TrajectoryEncoder(W, cfg.heads, cfg.traj_layers, cfg.traj_down, self.m if cfg.traj_frames else 0,
+                                      cfg.traj_frames) if cfg.use_traj else None
         self.blocks = nn.ModuleList(Block(W, cfg.heads, cfg.mlp_ratio) for _ in range(cfg.blocks))
         self.norm_out = nn.LayerNorm(W, elementwise_affine=False, eps=1e-6)
         self.out = nn.Linear(W, self.p * self.d)
@@ -202,7 +222,8 @@ class MCMLDM(nn.Module):
 
     def conditions(self, z_content: torch.Tensor, style: torch.Tensor, traj: torch.Tensor | None,
                    traj_mask: torch.Tensor | None) -> dict:
-        """Per-clip conditions, computed once: content tokens (B, N−1, W), style (B, W), trajectory (B, W)."""
+        """Per-clip conditions, computed once: content tokens (B, N−1, W), style (B, W), trajectory (B, W)
+        or, per token, (B, N, W) (N: denoiser tokens)."""
         c = self.remover(z_content) if self.remover is not None else \
             self.content_proj(patchify(z_content, self.p))  # B Eq. 6
         tr = self.traj(traj, traj_mask) if self.traj is not None else torch.zeros_like(c[:, 0])
@@ -212,7 +233,10 @@ class MCMLDM(nn.Module):
         """ε̂ for (B, N, d) noisy latents: [content tokens; noisy tokens] → blocks → the last N tokens."""
         temb = self.time(t)  # (B, W)
         h = torch.cat([cond["content"], self.in_proj(patchify(z_t, self.p))], 1) + self.token_pos  # B Eq. 6
-        c_style, c_traj = temb + cond["style"], temb + cond["traj"]
+        c_style, c_traj = temb + cond["style"], cond["traj"]
+        if c_traj.dim() == 3:  # per token: the content prefix gets the clip's mean trajectory feature
+            c_traj = torch.cat([c_traj.mean(1, keepdim=True).expand(-1, self.n_content, -1), c_traj], 1)
+        c_traj = per_token(temb) + c_traj if c_traj.dim() == 3 else temb + c_traj  # (B, L, W) or (B, W)
         for blk in self.blocks:
             h = blk(h, c_style, c_traj)
         return self.out(self.norm_out(h[:, self.n_content:])).reshape(z_t.shape)  # (B, N/p, p·d) → (B, N, d)
