@@ -21,31 +21,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from mslib.data.corpora import load_builtin  # noqa: E402
-from mslib.data.datasets import MotionFolder  # noqa: E402
-from mslib.data.styles import STYLES  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
-
-
-def val_pairs(paths, n: int = 200, seed: int = 0) -> list:
-    """(content, style) item dicts from the val splits, styles in turn, clips at random."""
-    content = MotionFolder(paths["content"], "val", normalize=False, joints=True)
-    style = MotionFolder(paths["style"], "val", normalize=False, joints=True)
-    by_style: dict = {}
-    for i, r in enumerate(style.rows):
-        by_style.setdefault(r["style"], []).append(i)
-    rng = np.random.default_rng([seed, 777])
-    pairs = []
-    for k in range(n):
-        ci = int(rng.integers(len(content)))
-        pool = by_style[STYLES[k % len(STYLES)]]
-        si = pool[int(rng.integers(len(pool)))]
-        (cf, cj), (sf, sj) = content._arrays(ci), style._arrays(si)
-        pairs.append(({"features": cf.astype(np.float64), "joints": cj.astype(np.float64),
-                       "content": content.rows[ci]["content"], "clip_id": content.rows[ci]["clip_id"]},
-                      {"features": sf.astype(np.float64), "joints": sj.astype(np.float64),
-                       "style": style.rows[si]["style"], "content": style.rows[si]["content"],
-                       "clip_id": style.rows[si]["clip_id"]}))
-    return pairs
 
 
 def score(model, pairs, evaluator) -> dict:
@@ -76,8 +52,8 @@ def main(argv=None) -> int:
         C.train(cfg, paths["content"], paths["style"], seed=0, out=args.out)
         print(args.out)
         return 0
-    from mslib.evaluation.bench import Evaluator
-    pairs, evaluator = val_pairs(paths), Evaluator()
+    from mslib.evaluation.bench import Evaluator, load_pairs
+    pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()
     for ck in args.checkpoints:
         if ck != "course" and not Path(ck).is_file():
             raise SystemExit(f"checkpoint {ck}: no such file")

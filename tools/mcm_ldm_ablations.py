@@ -36,6 +36,7 @@ def main(argv=None) -> int:
     import numpy as np
     from mslib.data.corpora import load_builtin
     from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.checkpoints import checkpoint_digest
     from mslib.models import mcm_ldm_pipeline as P
     from mslib.motion.features import decode
 
@@ -46,6 +47,7 @@ def main(argv=None) -> int:
     todo = args.only.split(",")
     prepared = None
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
+    command = "python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:])
 
     def score(tr, scale=None):
         outs = [decode(tr(c["features"], s["features"], scale=scale)) for c, s in pairs]
@@ -61,13 +63,15 @@ def main(argv=None) -> int:
                         progress=False, overrides=VARIANTS[key], prepared=prepared)
         tr = P.load_mcm_ldm(out)
         rows[key] = {"key": key, "variant": LABELS[key], **score(tr), "steps": summary["steps"],
-                     "train_seconds": summary["seconds"], "wall_seconds": round(time.time() - t0, 1)}
+                     "train_seconds": summary["seconds"], "wall_seconds": round(time.time() - t0, 1),
+                     "command": command.strip()}
         print(json.dumps(rows[key]), flush=True)
     if "sweep" in todo:
         tr = P.load_mcm_ldm()
         for lam in (0.0, 1.0, 2.5, 5.0):
             key = f"lambda_{lam}"
-            rows[key] = {"key": key, "variant": f"course model, λ = {lam}", **score(tr, lam)}
+            rows[key] = {"key": key, "variant": f"course model, λ = {lam}", **score(tr, lam),
+                         "command": command.strip(), "checkpoint": checkpoint_digest("mcm_ldm")}
             print(json.dumps(rows[key]), flush=True)
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
@@ -77,7 +81,7 @@ def main(argv=None) -> int:
     data = {"pairs": args.pairs, "seed": 0, "steps": args.steps,
             "vae": {"arch": getattr(vcfg, "arch", "transformer"), "latent_tokens": vcfg.latent_tokens,
                     "latent_dim": vcfg.latent_dim},
-            "command": "python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:]),
+            "command": command.strip(),
             "rows": [rows[k] for k in order if k in rows]}
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")

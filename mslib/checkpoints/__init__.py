@@ -22,6 +22,12 @@ def course_path(name: str) -> Path:
     return PACKAGE_DIR / f"{name}.pt"
 
 
+def checkpoint_digest(name: str) -> str:
+    """The first 12 hex digits of a packaged checkpoint's SHA-256: which model a stored result measured."""
+    import hashlib
+    return hashlib.sha256(course_path(name).read_bytes()).hexdigest()[:12]
+
+
 def save_checkpoint(path, model: torch.nn.Module, config: dict, model_name: str, extra: dict | None = None) -> Path:
     """Write {format_version, model, config, state_dict, extra} atomically."""
     json.dumps(config)  # the config must be JSON-able: fail here, not at load time

@@ -66,7 +66,7 @@ class MCMConfig:
         if name == "paper":
             return cls()
         if name == "course":
-            return cls(width=96, heads=4, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, steps=1500,
+            return cls(width=96, heads=4, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, steps=6000,
                        batch_size=64, lr=1e-3, patch=0)
         raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
 
