@@ -80,15 +80,14 @@ def _train_classifier(kind):
     def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True):
         from .checkpoints import course_path
         from .evaluation.evaluator import NAMES, test_accuracy, train_classifier
+        from .training import run_summary
         folder = content if kind == "content" else style
         out = out or course_path(NAMES[kind])
         overrides = {"steps": steps} if steps else {}
         model, history = train_classifier(kind, folder, preset, seed, out=out, device=device,
                                           progress=progress, resume=resume, **overrides)
-        return {"model": NAMES[kind], "out": str(out), "steps": history["step"][-1],
-                "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
-                "val_acc": round(100 * history["val"]["acc"][-1], 2),
-                "test_acc": round(test_accuracy(model, folder, "test"), 2)}
+        return run_summary(NAMES[kind], out, history, val_acc=round(100 * history["val"]["acc"][-1], 2),
+                           test_acc=round(test_accuracy(model, folder, "test"), 2))
     return run
 
 

@@ -226,5 +226,11 @@ def _save(out, model, model_name, opt, sched, history, step, cfg):
     save_checkpoint(out, model, getattr(model, "config", {}), model_name, extra)
 
 
+def run_summary(name: str, out, history: dict, **extra) -> dict:
+    """What every `python -m mslib train` prints: model, checkpoint, steps, seconds, why it stopped, then `extra`."""
+    return {"model": name, "out": str(out), "steps": history["step"][-1] if history["step"] else 0,
+            "seconds": round(history["seconds"], 1), "stopped": history["stopped"], **extra}
+
+
 def _jsonable(d):
     return {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}

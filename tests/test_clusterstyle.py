@@ -95,6 +95,17 @@ def test_t2m_stage_ignores_style():
         tiny(stage="finetune")
 
 
+def test_validation_is_repeatable_and_leaves_the_training_stream_alone():
+    model = tiny(stage="t2m").eval()
+    batch = {"z": torch.randn(3, 2, 4), "caption": ["a person walks"] * 3}
+    torch.manual_seed(7)
+    expected = torch.rand(3)
+    torch.manual_seed(7)
+    first = model.validation_step(batch)
+    assert torch.equal(torch.rand(3), expected)  # the training draws go on as if no validation ran
+    assert model.validation_step(batch) == first  # fixed timesteps and noise: one number per model
+
+
 def test_transfer_shapes_determinism_and_bad_t0():
     pipe = tiny_pipeline()
     content, style = walk_features(30), walk_features(20)

@@ -8,7 +8,7 @@ import torch
 from torch.utils.data import TensorDataset
 
 from mslib.checkpoints import FORMAT_VERSION, load_state, read_checkpoint, save_checkpoint
-from mslib.training import TrainConfig, fit, lr_factor
+from mslib.training import TrainConfig, fit, lr_factor, run_summary
 
 
 class Linear(torch.nn.Module):
@@ -145,3 +145,10 @@ def test_packaged_checkpoints_are_safe_small_and_current():
     for f in files:
         blob = read_checkpoint(f)  # weights_only=True, format version checked
         assert blob["model"] == f.stem, f"{f.name} holds model {blob['model']!r}"
+
+
+def test_run_summary_heads_every_train_command():
+    history = {"step": [10, 20], "seconds": 3.14159, "stopped": "steps"}
+    s = run_summary("toy", "/tmp/toy.pt", history, val_loss=0.5, seconds=2.0)
+    assert s == {"model": "toy", "out": "/tmp/toy.pt", "steps": 20, "seconds": 2.0, "stopped": "steps", "val_loss": 0.5}
+    assert run_summary("toy", "x.pt", {"step": [], "seconds": 0.04, "stopped": "budget"})["steps"] == 0

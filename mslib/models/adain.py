@@ -19,7 +19,7 @@ from torch.utils.data import Dataset
 from ..checkpoints import course_path, load_model
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from .layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
 
 ROOT_DIMS = slice(0, 4)  # root angular velocity, XZ velocity, height: kept from the content
@@ -252,9 +252,8 @@ def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, res
     out = out or course_path("adain")
     model, h = train_adain(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
                            progress=progress)
-    return {"model": "adain", "out": str(out), "steps": h["step"][-1], "seconds": round(h["seconds"], 1),
-            "stopped": h["stopped"],
-            **{f"{part}_{k}": round(h[part][k][-1], 4) for part in ("train", "val") for k in ("content", "style")}}
+    return run_summary("adain", out, h, **{f"{part}_{k}": round(h[part][k][-1], 4)
+                                           for part in ("train", "val") for k in ("content", "style")})
 
 
 TRAINABLE = {"adain": _run}

@@ -32,7 +32,7 @@ from torch.utils.data import Dataset
 from ..checkpoints import course_path, load_state
 from ..data.datasets import MotionFolder
 from ..motion.features import N_FEATURES, decode
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from .layers import ResBlock1d, adain
 
 NAME = "contrastive"
@@ -408,9 +408,8 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
     model, history = train(cfg, content, style, seed, out, device, resume, progress)
     tr = history["train"]
     last = lambda k: round(float(np.mean(tr[k][-50:])), 4)  # noqa: E731
-    return {"model": NAME, "out": str(out), "steps": history["step"][-1], "seconds": round(time.time() - t0, 1),
-            "stopped": history["stopped"], "rec": last("rec"), "nce": last("nce"), "tri": last("tri"),
-            "adv": last("adv"), "d": last("d")}
+    return run_summary(NAME, out, history, seconds=round(time.time() - t0, 1),
+                       **{k: last(k) for k in ("rec", "nce", "tri", "adv", "d")})
 
 
 TRAINABLE = {NAME: run}

@@ -20,7 +20,7 @@ from torch.utils.data import Dataset, TensorDataset
 from ..checkpoints import course_path, load_model
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import N_FEATURES, check_features, decode
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from .adain import ROOT_DIMS, load_adain
 
 MODES = ("dual", "dynamic", "static")
@@ -224,9 +224,8 @@ def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, res
     out = out or course_path("dsdn")
     _, h = train_dsdn(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
                       progress=progress)
-    return {"model": "dsdn", "out": str(out), "steps": h["step"][-1], "seconds": round(h["seconds"], 1),
-            "stopped": h["stopped"],
-            **{f"{part}_{k}": round(h[part][k][-1], 4) for part in ("train", "val") for k in ("rec", "vel")}}
+    return run_summary("dsdn", out, h, **{f"{part}_{k}": round(h[part][k][-1], 4)
+                                          for part in ("train", "val") for k in ("rec", "vel")})
 
 
 TRAINABLE = {"dsdn": _run}

@@ -11,7 +11,7 @@ from torch.utils.data import Dataset
 from ..checkpoints import course_path, load_state, read_checkpoint
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import decode as decode_positions
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from . import style_extractor as SE
 from .mcm_ldm import MCMLDM, NAME, STYLE_WINDOW, TRAJ, MCMConfig
 from .vae import MotionVAE, load_vae, pad_batch
@@ -185,9 +185,7 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
     out = course_path(NAME) if out is None else out
     vae, extractor, style_cfg, train = prepared or prepare(content, style, device, windows=not cfg.pretrained_style)
     model, history = train_mcm(cfg, train, None, vae, style_cfg, seed, out, device, resume, progress)
-    return {"model": NAME, "out": str(out), "steps": history["step"][-1] if history["step"] else 0,
-            "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
-            "final_loss": round(float(np.mean(history["train"]["loss"][-50:])), 4)}
+    return run_summary(NAME, out, history, final_loss=round(float(np.mean(history["train"]["loss"][-50:])), 4))
 
 
 TRAINABLE = {NAME: run, SE.NAME: SE.run}

@@ -19,7 +19,7 @@ from torch.nn import functional as Fn
 
 from ..checkpoints import course_path, load_state, read_checkpoint
 from ..data.datasets import StyleClips
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from .layers import PositionalEncoding, transformer_encoder
 from .text import TextConfig, TextEncoder, Tokenizer
 
@@ -170,9 +170,8 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
                      warmup_steps=min(50, cfg.steps // 10), val_every=max(1, cfg.steps // 4), seed=seed)
     history = fit(model, sets["train"], tc, sets["val"], model_name=NAME, out=out, resume=resume, device=device,
                   progress=progress)
-    return {"model": NAME, "out": str(out), "steps": history["step"][-1] if history["step"] else 0,
-            "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
-            "val_loss": round(history["val"]["loss"][-1], 3), "val_top1": round(history["val"]["top1"][-1], 3)}
+    return run_summary(NAME, out, history, val_loss=round(history["val"]["loss"][-1], 3),
+                       val_top1=round(history["val"]["top1"][-1], 3))
 
 
 TRAINABLE = {NAME: run}

@@ -32,7 +32,7 @@ from torch.utils.data import ConcatDataset, Dataset
 from ..checkpoints import course_path, load_state, read_checkpoint, save_checkpoint
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import decode as decode_positions
-from ..training import TrainConfig, fit
+from ..training import TrainConfig, fit, run_summary
 from .layers import PositionalEncoding, ResBlock1d, transformer_encoder
 
 NAME = "vae"
@@ -385,11 +385,9 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
     extra = read_checkpoint(out, NAME)["extra"]
     save_checkpoint(out, vae, vae.config, NAME, extra)
     err = reconstruction_mpjpe(vae, content, "test")
-    return {"model": NAME, "out": str(out), "steps": history["step"][-1] if history["step"] else 0,
-            "seconds": round(history["seconds"], 1), "stopped": history["stopped"],
-            "latent_scale": round(scale, 4), "test_mpjpe_cm": round(err["mpjpe_cm"], 2),
-            "test_mpjpe_local_cm": round(err["mpjpe_local_cm"], 2),
-            "val_rec": round(history["val"]["rec"][-1], 4) if history["val"].get("rec") else math.nan}
+    return run_summary(NAME, out, history, latent_scale=round(scale, 4), test_mpjpe_cm=round(err["mpjpe_cm"], 2),
+                       test_mpjpe_local_cm=round(err["mpjpe_local_cm"], 2),
+                       val_rec=round(history["val"]["rec"][-1], 4) if history["val"].get("rec") else math.nan)
 
 
 TRAINABLE = {NAME: run}
