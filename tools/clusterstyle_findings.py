@@ -1,6 +1,6 @@
 """Paper D's two findings on the built-in data; writes notebooks/data/06_clusterstyle_findings.json.
 
-    python tools/clusterstyle_findings.py [--only fig5,table3,bench] [--sma-steps 400] [--pairs 100]
+    python tools/clusterstyle_findings.py [--only fig5,table3,bench,guidance] [--sma-steps 400] [--pairs 100]
 
 fig5   D Fig. 5's claim: for each style, a reference clip and a content clip (both from the *val* splits,
        not the benchmark's test pairs); three outputs that use the style's three global prototypes as the
@@ -14,7 +14,9 @@ table3 D Table 3, first row: the style encoder with a learnable classification h
 bench  the default bench draw (seed 0, 200 pairs) of `clusterstyle`, `identity` and `copy_style` — the rows
        `python -m mslib bench --method clusterstyle,identity,copy_style --json` prints — stored so that
        notebook 06 need not spend minutes re-running 200 SDEdit transfers.
-Rows already in the JSON are kept unless re-run.
+guidance  the choice of the course inference settings: style guidance weight w (D Eq. 15, for t < 300) and
+       the style CFG strength s_s, scored on 96 pairs from the *val* splits with the packaged model.
+Rows already in the JSON are kept unless re-run; each section records the checkpoint digest it measured.
 """
 from __future__ import annotations
 
@@ -66,6 +68,25 @@ def fig5(paths) -> dict:
     return {"rows": rows, "summary": summary}
 
 
+GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1.0), (1500.0, 2.5), (1500.0, 0.0))
+
+
+def guidance(n_pairs: int = 96) -> dict:
+    """H, CRA, SRA of SDEdit transfers on a val draw for (w, s_s) in GUIDANCE_GRID (t0 600, s_t 2.5)."""
+    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.models.clusterstyle_guidance import load_pipeline
+    from mslib.motion.features import decode
+    pairs, ev, pipe = load_pairs(0, n_pairs, split="val"), Evaluator(), load_pipeline()
+    rows = []
+    for w, ss in GUIDANCE_GRID:
+        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0,
+                                     weight=w, cfg_style=ss)) for c, s in pairs]
+        r = evaluate(outs, pairs, ev)
+        rows.append({"weight": w, "cfg_style": ss, **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "fsf", "tsi")}})
+        print(rows[-1], flush=True)
+    return {"pairs": n_pairs, "split": "val", "rows": rows}
+
+
 def encoder_accuracy(path, paths) -> float:
     """Held-out (test split) style accuracy of a trained style model, in percent."""
     from mslib.data.datasets import StyleClips
@@ -110,7 +131,7 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", default="fig5,table3,bench")
+    ap.add_argument("--only", default="fig5,table3,bench,guidance")
     ap.add_argument("--sma-steps", type=int, default=400)
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--workdir", default="/tmp/clusterstyle_findings")
@@ -129,6 +150,8 @@ def main(argv=None) -> int:
         print("fig5", json.dumps(result["fig5"]["summary"]), f"{time.time() - t0:.0f} s", flush=True)
     if "table3" in todo:
         result["table3"] = table3(paths, workdir, args.sma_steps, args.pairs)
+    if "guidance" in todo:
+        result["guidance"] = guidance()
     if "bench" in todo:
         from mslib.evaluation.bench import run_bench
         result["bench"] = {"rows": [run_bench(m) for m in ("clusterstyle", "identity", "copy_style")]}
@@ -137,11 +160,15 @@ def main(argv=None) -> int:
     command = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
     from mslib.models.vae import load_vae
     vae_cfg = load_vae().cfg
-    for key in ("fig5", "table3", "bench"):
-        if key in todo:  # which run wrote this section, and on which course VAE latent
+    from mslib.checkpoints import checkpoint_digest
+    for key in ("fig5", "table3", "bench", "guidance"):
+        if key in todo:  # which run wrote this section, on which course VAE latent and ClusterStyle checkpoint
             result[key]["command"] = command
             result[key]["vae_latent"] = [vae_cfg.latent_tokens, vae_cfg.latent_dim]
+            result[key]["checkpoint"] = checkpoint_digest("clusterstyle_t2m" if key == "table3" else "clusterstyle")
     OUT.parent.mkdir(parents=True, exist_ok=True)
+    latest = json.loads(OUT.read_text()) if OUT.is_file() else {}  # re-read: parallel runs of other sections merge
+    result = {**latest, **{k: v for k, v in result.items() if k in todo}}
     OUT.write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps({k: v for k, v in result.items() if k != "fig5"} | {"fig5": result.get("fig5", {}).get("summary")}))
     return 0

@@ -54,13 +54,17 @@ class ClusterStyleConfig:
     cfg_text: float = 2.5
     cfg_style: float = 2.5
     t0: int = 600  # SDEdit start step (SMooDi restarts at ≈ 581 of 1000)
-    guide_weight: float = 0.4  # SMooDi transfer: scale 0.4 for t < 150
-    guide_below: int = 150
+    guide_weight: float = 0.4  # w of D Eq. 15 (its value is lost in our copy of D; 0.4 is SMooDi's transfer scale)
+    guide_below: int = 300  # D App. A.2: classifier-based style guidance only for t < 300
 
     @classmethod
     def course(cls, **kw) -> "ClusterStyleConfig":
-        """CPU preset: a 4-layer, 96-wide denoiser on the course VAE's 4×64 latent; 20 DDIM steps."""
-        base = dict(dim=96, layers=4, heads=4, ff_mult=2, ddim_steps=20)
+        """CPU preset: a 4-layer, 96-wide denoiser on the course VAE's 50×16 latent; 20 DDIM steps. Style by
+        classifier-based guidance (D §3.5: "classifier guidance for style motions") with w = 1500 — the cosine's
+        gradient on this latent has norm ≈ 0.1, so w ≈ 1 does nothing — and the style branch at its plain
+        conditional strength (s_s = 1); both chosen on a validation draw (`tools/clusterstyle_findings.py
+        --only guidance`)."""
+        base = dict(dim=96, layers=4, heads=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=1500.0)
         base.update(kw)
         return cls(**base)
 

@@ -216,7 +216,7 @@ def load_pipeline(device="cpu", path=None, vae_path=None) -> Pipeline:
 from .registry import register  # noqa: E402
 
 
-@register("clusterstyle", "D: SDEdit transfer (t0=600, 20 DDIM steps), 3-way CFG, reference-feature guidance")
+@register("clusterstyle", "D: SDEdit transfer (t0=600, 20 DDIM steps), text CFG, reference-feature guidance for t < 300")
 def _bench_factory(device="cpu"):
     pipe = load_pipeline(device)
 
