@@ -1,7 +1,7 @@
 """Paper B Table 2 on the built-in data: short MCM-LDM runs with one switch flipped, and a λ sweep of the
 packaged model, scored by the independent evaluator on benchmark pairs; writes notebooks/data/04_ablations.json.
 
-    python tools/mcm_ldm_ablations.py [--steps 600] [--pairs 100] [--only full,no_remover,...]
+    python tools/mcm_ldm_ablations.py [--steps 3000] [--pairs 100] [--only full,no_remover,...]
 
 The JSON records the packaged VAE's latent (arch, tokens, width); rows measured through another VAE are stale.
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
@@ -28,7 +28,7 @@ OUT = ROOT / "notebooks" / "data" / "04_ablations.json"
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=int, default=600)
+    ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep")
     ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")

@@ -383,7 +383,7 @@ if abl is not None:
     for r in abl["rows"]:
         print(f"{r['variant']:<30} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.2f} {r['tsi']:>6.2f} {r['fsf']:>6.2f}")
 else:
-    print("no ablation table yet: run `python tools/mcm_ldm_ablations.py` (about 12 CPU minutes)")
+    print("no ablation table yet: run `python tools/mcm_ldm_ablations.py` (about half an hour of one CPU core; two processes with --only split the variants)")
 
 # %% [markdown]
 # Paper B's directions: without the StyleRemover the content condition also carries the content's own
