@@ -288,14 +288,13 @@ from mslib.checkpoints import checkpoint_digest
 FINDINGS = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "06_clusterstyle_findings.json"
 findings = json.loads(FINDINGS.read_text()) if FINDINGS.is_file() else {}
 latent_now = [pipe.vae.cfg.latent_tokens, pipe.vae.cfg.latent_dim]
-for key, part in findings.items():  # a section measured with other ClusterStyle checkpoints than the packaged ones
+for key, part in findings.items():  # a section measured on another course VAE or ClusterStyle checkpoint
     name = "clusterstyle_t2m" if key == "table3" else "clusterstyle"
-    if isinstance(part, dict) and part.get("checkpoint") != checkpoint_digest(name):
-        print(f"note: the '{key}' findings measured another {name}.pt: re-run python tools/clusterstyle_findings.py --only {key}")
-for key, part in findings.items():  # a section measured on another course VAE than the packaged one
-    if isinstance(part, dict) and part.get("vae_latent") != latent_now:
-        print(f"note: the '{key}' findings were measured with VAE latent {part.get('vae_latent', 'unrecorded (an older VAE)')}, "
-              f"not the packaged {latent_now[0]}x{latent_now[1]}: re-run python tools/clusterstyle_findings.py --only {key}")
+    why = [f"VAE latent {part.get('vae_latent', 'unrecorded')}, not the packaged {latent_now[0]}x{latent_now[1]}"
+           ] if part.get("vae_latent") != latent_now else []
+    why += [f"another {name}.pt"] if part.get("checkpoint") != checkpoint_digest(name) else []
+    if why:
+        print(f"note: the '{key}' findings measured {' and '.join(why)}: re-run python tools/clusterstyle_findings.py --only {key}")
 if "fig5" in findings:
     print(f"{'style':<10} {'transfer: protos':>17} {'seeds':>6}   {'generate: protos':>17} {'seeds':>6}   (cm)")
     for r in findings["fig5"]["rows"]:
