@@ -331,9 +331,22 @@ _ = fig
 
 # %% [markdown]
 # ### Where the style comes from: the guidance weight
-# The guidance weight $w$ is not in our copy of D, and its scale depends on the latent: here the cosine's
-# gradient has a norm of about 0.1 against a noise prediction of norm about 28, so a $w$ near 1 changes
-# nothing. The findings script's `guidance` step scores a small grid of $(w, s_s)$ on 96 pairs from the
+# The guidance weight $w$ is not in our copy of D, and its scale depends on the latent. Measure it: the
+# gradient of the cosine with respect to the noisy latent, against the size of a noise prediction, for the
+# walk above noised to $t = 200$ and the angry reference:
+
+# %%
+z0 = pipe.vae.encode(pipe.normalize(c_raw)[None])
+t_g = torch.tensor([200])
+z_t = pipe.model.sched.q_sample(z0, t_g, torch.randn(z0.shape, generator=torch.Generator().manual_seed(0)))
+eps = torch.randn(z0.shape, generator=torch.Generator().manual_seed(1))
+ref_tokens = pipe.style_tokens(angry)
+grad = pipe.guidance_grad(z_t, t_g, eps, len(c_raw), ("global", ref_tokens[0, 0]))
+print(f"|∇ cos| = {float(grad.norm()):.2f}, |ε| = {float(eps.norm()):.0f}: w·√(1−ᾱ)·|∇ cos| reaches |ε|/10 "
+      f"only for w ≈ {float(eps.norm()) / 10 / float(grad.norm()) / float((1 - pipe.model.sched.alphas_cumprod[200]) ** 0.5):.0f}")
+
+# %% [markdown]
+# The findings script's `guidance` step scores a small grid of $(w, s_s)$ on 96 pairs from the
 # *validation* splits (the benchmark's test pairs are never used to choose settings):
 
 # %%
