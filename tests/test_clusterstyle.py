@@ -149,6 +149,32 @@ def test_prototype_tokens_replace_the_global_and_local_features():
     assert torch.equal(out[0, 3], bank.local_bank.prototypes[0, 3])
 
 
+def test_nearest_global_prototype_finds_each_prototype_used_as_the_feature():
+    pipe = tiny_pipeline()
+    s = pipe.style_tokens(walk_features(20))
+    bank = pipe.model.style.global_bank.prototypes  # (C, K, D)
+    for c in range(bank.shape[0]):
+        for k in range(bank.shape[1]):
+            assert pipe.nearest_global_prototype(pipe.prototype_tokens(s, global_k=k, style=c)) == (c, k)
+            scaled = pipe.prototype_tokens(s, global_k=k, style=c)
+            scaled[0, 0] *= 7.0  # cosine: the length of the feature does not matter
+            assert pipe.nearest_global_prototype(scaled) == (c, k)
+
+
+def test_variants_take_one_seed_or_one_seed_per_variant():
+    pipe = tiny_pipeline()
+    content, style = walk_features(30), walk_features(20)
+    k = pipe.model.style_cfg.k_global
+    same = pipe.variants(content, style, kind="global", seed=4)
+    listed = pipe.variants(content, style, kind="global", seed=[4] * k)
+    assert len(same) == k and all(np.array_equal(a, b) for a, b in zip(same, listed))
+    paired = pipe.variants(content, style, kind="global", seed=list(range(k)))
+    assert np.array_equal(paired[0], pipe.variants(content, style, kind="global", seed=0, n=1)[0])
+    assert not np.array_equal(paired[1], pipe.variants(content, style, kind="global", seed=0)[1])
+    with pytest.raises(ValueError, match="seed"):
+        pipe.variants(content, style, kind="global", seed=[0, 1, 2, 3, 4][: k + 1])
+
+
 def test_pose_diversity_known_answers():
     f = walk_features(30)
     assert pose_diversity([f, f]) == 0.0

@@ -2,11 +2,11 @@
 
     python tools/clusterstyle_findings.py [--only fig5,table3,bench,guidance] [--sma-steps 400] [--pairs 100]
 
-fig5   D Fig. 5's claim: for each style, a reference clip and a content clip (both from the *val* splits,
-       not the benchmark's test pairs); three outputs that use the style's three global prototypes as the
-       style feature and guidance target (one seed) against three outputs with the reference's own
-       feature and three seeds. Diversity = mean pairwise root-relative joint distance (cm,
-       `pose_diversity`). Measured for SDEdit transfer (t0 = 600) and for generation from a caption.
+fig5   D Fig. 5's claim: for each style, two reference clips each with a content walk (all from the *val*
+       splits, not the benchmark's test pairs); outputs that use the style's global prototypes as the style
+       feature and guidance target (with one seed, and with seed k for prototype k) against outputs with the
+       reference's own feature and K seeds (`fig5` says which measures). Measured for SDEdit transfer
+       (t0 = 600) and for generation from a caption.
 table3 D Table 3, first row: the style encoder with a learnable classification head and cross-entropy
        instead of prototype clustering. Short runs of the same recipe (style stage 300 steps, then the
        SMA stage `--sma-steps` steps from the packaged t2m model), scored by the independent evaluator on
@@ -31,8 +31,8 @@ sys.path.insert(0, str(ROOT))
 OUT = ROOT / "notebooks" / "data" / "06_clusterstyle_findings.json"
 
 
-def val_examples(paths) -> list:
-    """One (content, style) pair per style from the val splits: the first walk and the first clip of the style."""
+def val_examples(paths, per_style: int = 2) -> list:
+    """`per_style` (content, style) pairs per style from the val splits: the style's first clips, each with a walk."""
     from mslib.data.datasets import ContentClips, StyleClips
     from mslib.data.styles import STYLES
     content = ContentClips(paths["content"], "val", normalize=False)
@@ -40,32 +40,63 @@ def val_examples(paths) -> list:
     walks = [i for i, r in enumerate(content.rows) if r["content"] == "walk"]
     out = []
     for k, s in enumerate(STYLES):
-        j = next(i for i, r in enumerate(style.rows) if r["style"] == s)
-        c = content[walks[k % len(walks)]]
-        out.append((s, c["features"].numpy(), c["caption"], style[j]["features"].numpy()))
+        clips = [i for i, r in enumerate(style.rows) if r["style"] == s][:per_style]
+        for n, j in enumerate(clips):
+            c = content[walks[(k * per_style + n) % len(walks)]]
+            out.append((s, c["features"].numpy(), c["caption"], style[j]["features"].numpy()))
     return out
 
 
+FIG5_SETS = ("prototypes_one_seed", "prototypes_paired_seeds", "seeds")
+FIG5_MEASURES = ("pose_cm", "diversity", "style_diversity")
+
+
 def fig5(paths) -> dict:
-    """Diversity across a style's global prototypes vs across seeds with the fixed reference feature."""
+    """D Fig. 5's claim, three output sets of K per example, K = the style's number of global prototypes:
+    prototypes_one_seed      prototype k as style feature and guidance target, seed 0 for all;
+    prototypes_paired_seeds  prototype k with seed k (prototype variation on top of seed variation);
+    seeds                    the reference's own feature (and guidance), seeds 0..K−1 — D's "fixed feature".
+    Measures: pose_cm (`pose_diversity`), diversity (FIELD_FACTS: mean distance between the evaluator's
+    features, as the bench's column), style_diversity (the same on the style classifier's features only);
+    and hit_rate: % of prototype outputs whose global style feature is nearest the prototype used."""
+    import numpy as np
+    from mslib.evaluation import metrics as M
+    from mslib.evaluation.bench import Evaluator
     from mslib.models.clusterstyle_guidance import load_pipeline, pose_diversity
-    pipe = load_pipeline()
+    from mslib.motion.features import decode
+    pipe, ev = load_pipeline(), Evaluator()
+    K = pipe.model.style_cfg.k_global
+
+    def measures(outs) -> dict:
+        pos = [decode(o) for o in outs]
+        feats, style_feats = ev.score(pos)[2], ev.style.score(pos)[1]
+        return {"pose_cm": pose_diversity(outs), "diversity": M.diversity(feats), "style_diversity": M.diversity(style_feats)}
+
     rows = []
     for style, content, caption, ref in val_examples(paths):
         row = {"style": style}
+        c = pipe.style_of(pipe.style_tokens(ref))
         for mode in ("transfer", "generate"):
             kw = dict(caption=caption, mode=mode, length=len(content))
-            protos = pipe.variants(content, ref, kind="global", seed=0, **kw)
-            seeds = pipe.seed_variants(content, ref, seeds=(0, 1, 2), **kw)
-            row[mode] = {"prototypes_cm": round(pose_diversity(protos), 3), "seeds_cm": round(pose_diversity(seeds), 3)}
+            sets = {"prototypes_one_seed": pipe.variants(content, ref, kind="global", seed=0, **kw),
+                    "prototypes_paired_seeds": pipe.variants(content, ref, kind="global", seed=list(range(K)), **kw),
+                    "seeds": pipe.seed_variants(content, ref, seeds=tuple(range(K)), **kw)}
+            row[mode] = {name: {k: round(v, 3) for k, v in measures(outs).items()} for name, outs in sets.items()}
+            hits = [pipe.nearest_global_prototype(pipe.style_tokens(o)) == (c, k)
+                    for name in FIG5_SETS[:2] for k, o in enumerate(sets[name])]
+            row[mode]["hit_rate"] = round(100.0 * float(np.mean(hits)), 1)
         rows.append(row)
+        print(style, json.dumps({m: {n: row[m][n]["pose_cm"] for n in FIG5_SETS} for m in ("transfer", "generate")}),
+              flush=True)
     summary = {}
     for mode in ("transfer", "generate"):
-        p = [r[mode]["prototypes_cm"] for r in rows]
-        s = [r[mode]["seeds_cm"] for r in rows]
-        summary[mode] = {"prototypes_cm": round(sum(p) / len(p), 3), "seeds_cm": round(sum(s) / len(s), 3),
-                         "styles_where_prototypes_win": int(sum(a > b for a, b in zip(p, s))), "styles": len(rows)}
-    return {"rows": rows, "summary": summary}
+        summary[mode] = {name: {m: round(float(np.mean([r[mode][name][m] for r in rows])), 3) for m in FIG5_MEASURES}
+                         for name in FIG5_SETS}
+        summary[mode]["paired_beats_seeds"] = {m: int(sum(r[mode]["prototypes_paired_seeds"][m] > r[mode]["seeds"][m]
+                                                          for r in rows)) for m in FIG5_MEASURES}
+        summary[mode]["hit_rate"] = round(float(np.mean([r[mode]["hit_rate"] for r in rows])), 1)
+        summary[mode]["examples"] = len(rows)
+    return {"prototypes_per_style": K, "chance_hit_rate": round(100.0 / K, 1), "rows": rows, "summary": summary}
 
 
 GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1.0), (1500.0, 2.5), (1500.0, 0.0))

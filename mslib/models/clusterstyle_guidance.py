@@ -49,10 +49,16 @@ class Pipeline:
         return tokens, pad
 
     @torch.no_grad()
+    def nearest_global_prototype(self, tokens: torch.Tensor) -> tuple[int, int]:
+        """(style c, prototype k) of the global prototype nearest (cosine) to the global feature of `tokens`."""
+        protos = F.normalize(self.model.style.global_bank.prototypes, dim=-1)  # (C, K, D)
+        sim = torch.einsum("d,ckd->ck", F.normalize(tokens[0, 0], dim=0), protos)  # (C, K)
+        c, k = divmod(int(sim.argmax()), sim.shape[1])
+        return c, k
+
     def style_of(self, tokens: torch.Tensor) -> int:
         """The style a reference belongs to: the style of its nearest global prototype (no labels)."""
-        protos = self.model.style.global_bank.prototypes  # (C, K, D)
-        return int(torch.einsum("d,ckd->ck", tokens[0, 0], protos).amax(1).argmax())
+        return self.nearest_global_prototype(tokens)[0]
 
     def prototype_tokens(self, tokens: torch.Tensor, global_k: int | None = None, local_perm=None,
                          style: int | None = None) -> torch.Tensor:
@@ -162,26 +168,31 @@ class Pipeline:
         text, pad = self.text_tokens(caption)
         return self._sample(None, None, text, pad, s, int(length), self._target(guide, s), seed, **kw)
 
-    def variants(self, content_raw, style_raw, kind: str = "global", caption=None, seed: int = 0,
+    def variants(self, content_raw, style_raw, kind: str = "global", caption=None, seed=0,
                  n: int | None = None, mode: str = "transfer", length: int = 63, **kw) -> list:
         """D Fig. 5: one output per global prototype (kind="global") or per permutation of local
-        prototypes (kind="local"), each used as the style feature and as the guidance target."""
+        prototypes (kind="local"), each used as the style feature and as the guidance target.
+        `seed`: one seed for every variant, or a sequence with one seed per variant."""
         s = self.style_tokens(style_raw)
         cfg = self.model.style_cfg
         if kind == "global":
             specs = [(self.prototype_tokens(s, global_k=k), ("global", k)) for k in range(cfg.k_global)]
         elif kind == "local":  # random permutations of the style's local prototypes, one per segment
-            rng = np.random.default_rng(seed)
+            rng = np.random.default_rng(seed if np.isscalar(seed) else seed[0])
             perms = [rng.permutation(cfg.k_local)[: s.shape[1] - 1].tolist() for _ in range(n or cfg.k_global)]
             specs = [(self.prototype_tokens(s, local_perm=p), ("local", p)) for p in perms]
         else:
             raise ValueError(f"kind: expected 'global' or 'local', got {kind!r}")
+        specs = specs[: n or len(specs)]
+        seeds = [int(seed)] * len(specs) if np.isscalar(seed) else [int(x) for x in seed]
+        if len(seeds) != len(specs):
+            raise ValueError(f"seed: expected one seed or {len(specs)} seeds, got {len(seeds)}")
         out = []
-        for tokens, guide in specs[: n or len(specs)]:
+        for (tokens, guide), sd in zip(specs, seeds):
             if mode == "transfer":
-                out.append(self.transfer(content_raw, style_raw, caption, guide=guide, seed=seed, style_tokens=tokens, **kw))
+                out.append(self.transfer(content_raw, style_raw, caption, guide=guide, seed=sd, style_tokens=tokens, **kw))
             else:
-                out.append(self.generate(caption, style_raw, length, guide=guide, seed=seed, style_tokens=tokens, **kw))
+                out.append(self.generate(caption, style_raw, length, guide=guide, seed=sd, style_tokens=tokens, **kw))
         return out
 
     def seed_variants(self, content_raw, style_raw, seeds=(0, 1, 2), caption=None, mode: str = "transfer",
