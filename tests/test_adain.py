@@ -9,12 +9,14 @@ from mslib.models import adain as A
 from mslib.motion.features import decode, encode
 from mslib.training import TrainConfig
 
-TINY = A.AdainConfig(hidden=16, content_blocks=1, decoder_blocks=1, style_layers=1, heads=2, clip_frames=24)
+TINY = A.AdainConfig(hidden=16, content_blocks=1, decoder_blocks=1, style_layers=1, heads=2, clip_frames=24,
+                     pretrain_steps=10)
+TINY_SEPARATE = A.AdainConfig(**{**A.asdict(TINY), "shared_encoder": False, "pretrain_steps": 0})
 
 
-def _model(seed=0):
+def _model(seed=0, cfg=TINY):
     torch.manual_seed(seed)
-    return A.AdainTransfer(TINY, np.zeros(263), np.ones(263))
+    return A.AdainTransfer(cfg, np.zeros(263), np.ones(263))
 
 
 def _features(n=40, seed=0):
@@ -22,8 +24,9 @@ def _features(n=40, seed=0):
     return encode(generate_clip("walk", "neutral", seed=seed, index=0).positions)[:n].astype(np.float64)
 
 
-def test_shapes_and_root_path_from_the_content():
-    m = _model()
+@pytest.mark.parametrize("cfg", [TINY, TINY_SEPARATE], ids=["shared", "separate"])
+def test_shapes_and_root_path_from_the_content(cfg):
+    m = _model(cfg=cfg)
     c, s = _features(40), _features(31, seed=1)
     out = m.transfer_features(c, s)
     assert out.shape == c.shape
@@ -41,12 +44,13 @@ def test_pose_positions_match_decoded_joints_relative_to_the_root():
     np.testing.assert_allclose(p[0].numpy(), decode(f.double().numpy())[0], atol=1e-5)
 
 
-def test_adain_switches_move_the_stylized_code_statistics():
-    m = _model()
+@pytest.mark.parametrize("cfg", [TINY, TINY_SEPARATE], ids=["shared", "separate"])
+def test_adain_switches_move_the_stylized_code_statistics(cfg):
+    m = _model(cfg=cfg)
     x = torch.randn(2, 30, 263)
     s = torch.randn(2, 31, 263)
-    code = m.content_encoder(x)
-    mu_s, sig_s = A.channel_stats(m.style_encoder(A.pose_positions(s)))
+    code = m.content_code(x)
+    mu_s, sig_s = m.style_stats(s)
     mu_c, sig_c = A.channel_stats(code)
     for use_mean, use_std, want_mu, want_sig in ((True, True, mu_s, sig_s), (True, False, mu_s, sig_c),
                                                  (False, True, mu_c, sig_s)):
@@ -55,6 +59,33 @@ def test_adain_switches_move_the_stylized_code_statistics():
     full = m(x, s)
     mean_only = m(x, s, use_std=False)
     assert not torch.allclose(full, mean_only)
+
+
+def test_shared_encoder_reads_style_statistics_in_the_content_code_space():
+    m = _model()
+    assert m.style_encoder is None
+    f = torch.as_tensor(_features(30), dtype=torch.float32)[None]
+    mu, sig = m.style_stats(f)
+    want_mu, want_sig = A.channel_stats(m.content_code(m.normalize(f)))  # the same channels AdaIN moves
+    assert torch.allclose(mu, want_mu) and torch.allclose(sig, want_sig)
+    # a motion with its own statistics is (up to AdaIN's ε) the plain autoencoder: AdaIN is the identity
+    x = m.normalize(f)
+    own = m.stylize(x, mu, sig)
+    plain = m.denormalize(m.decoder(m.content_code(x)))
+    assert torch.allclose(own[..., 4:], plain[..., 4:], atol=1e-3)
+    separate = _model(cfg=TINY_SEPARATE)
+    assert isinstance(separate.style_encoder, A.StyleEncoder)
+    # separate E_s: the content code ignores the content's mean over time (its level comes from AdaIN)
+    assert torch.allclose(separate.content_code(x + 1.0), separate.content_code(x), atol=1e-5)
+
+
+def test_pretraining_optimises_reconstruction_only():
+    m = _model()
+    batch = {"content": {"features": torch.randn(3, 24, 263)}, "style": {"features": torch.randn(3, 31, 263)}}
+    m.pretraining = True
+    logs = m.losses(batch)
+    assert torch.isclose(logs["loss"], 0.5 * (logs["content"] + logs["style_rec"]))
+    assert float(logs["style"].detach()) > 0  # still measured and logged
 
 
 def test_losses_are_the_two_paths():
@@ -89,8 +120,12 @@ def test_tiny_training_lowers_both_losses(tmp_path):
     p = load_builtin(progress=False)
     tcfg = TrainConfig(steps=30, batch_size=8, lr=3e-3, val_every=30, val_batches=1)
     model, h = A.train_adain("course", p["content"], p["style"], seed=0, out=tmp_path / "a.pt", progress=False,
-                             config=TINY, train_config=tcfg)
-    first, last = np.mean(h["train"]["content"][:3]), np.mean(h["train"]["content"][-3:])
+                             config=A.AdainConfig(**{**A.asdict(TINY), "pretrain_steps": 30}), train_config=tcfg)
+    pre = model.pretrain_history  # the autoencoder steps came first
+    assert pre["step"][-1] == 30 and np.mean(pre["train"]["content"][-5:]) < np.mean(pre["train"]["content"][:5])
+    assert not any(q.requires_grad for q in model.content_encoder.parameters())  # E frozen: A Eq. 3's loss network
+    assert all(q.requires_grad for q in model.decoder.parameters())
+    first, last = np.mean(h["train"]["style"][:3]), np.mean(h["train"]["style"][-3:])
     assert last < first
     assert set(h["val"]) >= {"content", "style", "loss"}
     again = A.load_adain(tmp_path / "a.pt")
@@ -109,11 +144,12 @@ def test_course_checkpoint_bars():
 
 
 @pytest.mark.skipif(not course_path("adain").is_file(), reason="course checkpoint not trained yet")
-@pytest.mark.xfail(strict=True, reason="bar missed by the course model: on the default draw adain's H is 0.23, "
-                   "below identity's 0.26 (SRA 13%); strict, so it fails loudly once a model meets it")
-def test_bench_adain_beats_the_reference_rows():
+def test_bench_adain_meets_its_bars_on_the_default_draw():
+    """Issue bars on the whole default draw (seed 0, 200 pairs; AdaIN is fast): H ≥ 0.60 and above both
+    reference rows."""
     from mslib.evaluation.bench import Evaluator, load_pairs, run_bench
-    pairs = load_pairs(0, 40)
+    pairs = load_pairs(0, 200)
     ev = Evaluator()
     rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("adain", "identity", "copy_style")}
+    assert rows["adain"]["h"] >= 0.60
     assert rows["adain"]["h"] > max(rows["identity"]["h"], rows["copy_style"]["h"])

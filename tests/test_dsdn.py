@@ -80,6 +80,17 @@ def test_correct_features_keeps_the_root_path_and_the_length():
         m.correct_features(np.zeros((10, 5)))
 
 
+def test_correction_strength_moves_linearly_from_the_input_to_the_full_correction():
+    m = _model()
+    f = _features(33)
+    full, none, half = (m.correct_features(f, strength=k) for k in (1.0, 0.0, 0.5))
+    np.testing.assert_allclose(none, f, atol=1e-4)  # κ = 0: stage 2 off
+    np.testing.assert_allclose(half, 0.5 * (f + full), atol=1e-4)
+    assert np.abs(full - f)[:, 4:].max() > 1e-2  # the untrained network does change the motion
+    np.testing.assert_allclose(m.correct_features(f), m.correct_features(f, strength=m.cfg.correction_strength))
+    assert D.PRESETS["paper"][0].correction_strength == 1.0  # A's full correction
+
+
 def test_tiny_training_lowers_rec_and_the_checkpoint_round_trips(tmp_path):
     torch.manual_seed(0)
     clean = torch.randn(16, 16, 263).cumsum(1) * 0.1
@@ -132,3 +143,14 @@ def test_stage_two_smooths_the_transfers_and_slides_the_feet_less():
     jit = {m: np.mean([jitter(o) for o in v]) for m, v in outs.items()}
     fsf = {m: np.mean([foot_slide_fsf(o) for o in v]) for m, v in outs.items()}
     assert jit["adain+dsdn"] < jit["adain"] and fsf["adain+dsdn"] < fsf["adain"]
+
+
+@pytest.mark.skipif(not (course_path("dsdn").is_file() and course_path("adain").is_file()),
+                    reason="course checkpoints not trained yet")
+def test_stage_two_keeps_h_within_its_bar_on_the_default_draw():
+    """Issue bar on the whole default draw (seed 0, 200 pairs): H not more than 0.03 below adain's, FSF lower."""
+    from mslib.evaluation.bench import Evaluator, load_pairs, run_bench
+    pairs, ev = load_pairs(0, 200), Evaluator()
+    rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("adain", "adain+dsdn")}
+    assert rows["adain+dsdn"]["h"] >= rows["adain"]["h"] - 0.03
+    assert rows["adain+dsdn"]["fsf"] < rows["adain"]["fsf"]

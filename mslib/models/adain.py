@@ -1,11 +1,21 @@
 """Paper A stage 1: AdaIN style transfer with dual-path training (A §3.2, DESIGN.md §7).
 
-Content encoder on normalised 263-d content features; a simplified transformer style encoder on the
-style motion's joint positions (T×22×3, root path removed, facing frame); AdaIN over time (A Eq. 2)
-with mean-only / variance-only switches; a conv decoder back to 263-d. Training (A §3.2.2): a
-self-reconstruction path on content clips (A Eq. 4) and a stylization path with style clips from the
-retargeted style corpus (A Eq. 3), cross-dataset as in A §4.1; total A Eq. 5.
-The output keeps the content's root trajectory (dims 0..3) — the root path is content, not style.
+Content encoder on normalised 263-d content features; AdaIN over time (A Eq. 2) with mean-only /
+variance-only switches; a conv decoder back to 263-d. Training (A §3.2.2): a self-reconstruction path
+on content clips (A Eq. 4) and a stylization path with style clips from the retargeted style corpus
+(A Eq. 3), cross-dataset as in A §4.1; total A Eq. 5. The output keeps the content's root trajectory
+(dims 0..3) — the root path is content, not style.
+
+Two ways to get the style statistics (`AdainConfig.shared_encoder`):
+- False (A §3.2.1 as written, the `paper` preset): a separate simplified transformer style encoder E_s
+  on the style motion's joint positions (T×22×3, root path removed, facing frame), trained jointly.
+- True (the `course` preset): one encoder E for content and style, so AdaIN moves the statistics of the
+  *same* channels, as in the image methods A builds on (A §3.2.1 cites [11, 12]: Gatys et al., Huang &
+  Belongie). E and the decoder are first trained as an autoencoder (`pretrain_steps`, the two
+  reconstruction paths only); then E is frozen and is the network A Eq. 3 measures the stylized motion
+  with (Huang & Belongie's fixed encoder), and the decoder trains on A Eq. 5.
+  Why: with the jointly trained E_s the style term can be met by E_s itself (it learns statistics that
+  barely depend on the motion), and the course model ignored the style (SRA 13 %, tools/adain_variants.py).
 """
 from __future__ import annotations
 
@@ -39,16 +49,18 @@ class AdainConfig:
     lambda_style: float = 1.0  # A Eq. 5
     lambda_content: float = 1.0  # A Eq. 5
     clip_frames: int = 32  # content crop length (feature rows) in training
-    content_skip: bool = True  # the decoder also sees the content features minus their mean over time
+    content_skip: bool = False  # the decoder also sees the content features minus their mean over time
     style_recon: bool = True  # also run the self-reconstruction path on the style clips (see losses)
-    style_strength: float = 1.0  # inference: how far the statistics move from the content's to the style's
+    style_strength: float = 0.5  # inference: how far the statistics move from the content's to the style's
+    shared_encoder: bool = True  # one encoder E for content and style statistics (module docstring)
+    pretrain_steps: int = 3000  # autoencoder steps before E is frozen (0: E, E_s and decoder train jointly)
 
 
 PRESETS = {
-    "course": (AdainConfig(), TrainConfig(steps=1500, batch_size=16, lr=2e-3, warmup_steps=50,
+    "course": (AdainConfig(), TrainConfig(steps=6000, batch_size=16, lr=2e-3, warmup_steps=50,
                                           val_every=250, val_batches=4, time_budget_s=None)),
     "paper": (AdainConfig(hidden=256, content_blocks=4, decoder_blocks=4, style_layers=4, dropout=0.1,
-                          clip_frames=120),
+                          clip_frames=120, shared_encoder=False, pretrain_steps=0, style_strength=1.0),
               TrainConfig(steps=40000, batch_size=64, lr=2e-4, warmup_steps=1000, val_every=1000)),
 }
 
@@ -106,7 +118,9 @@ class Decoder(nn.Module):
 
 
 class AdainTransfer(nn.Module):
-    """The stage-1 model: E_c, E_s, AdaIN, decoder, and the dual-path losses (A Eq. 3–5)."""
+    """The stage-1 model: E_c (and E_s unless shared), AdaIN, decoder, and the dual-path losses (A Eq. 3–5)."""
+
+    pretraining = False  # True while `train_adain` runs the autoencoder steps (reconstruction losses only)
 
     def __init__(self, cfg: AdainConfig | dict | None = None, mean=None, std=None):
         super().__init__()
@@ -116,7 +130,8 @@ class AdainTransfer(nn.Module):
                                                      dtype=torch.float32).clone())
         self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
                                                     dtype=torch.float32).clone())
-        self.content_encoder, self.style_encoder, self.decoder = ContentEncoder(cfg), StyleEncoder(cfg), Decoder(cfg)
+        self.content_encoder, self.decoder = ContentEncoder(cfg), Decoder(cfg)
+        self.style_encoder = None if cfg.shared_encoder else StyleEncoder(cfg)
 
     # ------------------------------------------------------------ pieces
     def normalize(self, f: torch.Tensor) -> torch.Tensor:
@@ -125,18 +140,28 @@ class AdainTransfer(nn.Module):
     def denormalize(self, x: torch.Tensor) -> torch.Tensor:
         return x * self.std + self.mean
 
+    def content_code(self, content: torch.Tensor) -> torch.Tensor:
+        """C_c (B, T, H) of normalised content (B, T, 263); with a separate E_s, of the content minus its
+        mean over time (its level must then come from the AdaIN statistics)."""
+        if self.cfg.shared_encoder:
+            return self.content_encoder(content)
+        return self.content_encoder(content - content.mean(1, keepdim=True))
+
     def style_stats(self, style_features: torch.Tensor, mask=None) -> tuple:
-        """μ, σ over time of C_s = E_s(positions of the style motion); unnormalised (B, T, 263) in."""
+        """μ, σ over time of C_s, unnormalised (B, T, 263) in: E(normalised features) with the shared
+        encoder, else E_s(positions of the motion)."""
+        if self.cfg.shared_encoder:
+            return channel_stats(self.content_encoder(self.normalize(style_features)), mask)  # (B, 1, H) ×2
         return channel_stats(self.style_encoder(pose_positions(style_features)), mask)  # (B, 1, H) ×2
 
     def stylize(self, content: torch.Tensor, style_mu, style_sigma, mask=None, use_mean=True, use_std=True,
                 code=None):
         """Normalised content (B, T, 263) + style statistics → unnormalised stylized features (B, T, 263);
         dims 0..3 (the root trajectory) are the content's. `code`: E_c(content) when already computed."""
-        centred = content - content.mean(1, keepdim=True)  # (B, T, 263): the content's own mean pose removed
-        c = self.content_encoder(centred) if code is None else code  # C_c (B, T, H)
+        c = self.content_code(content) if code is None else code  # C_c (B, T, H)
         cs = adain(c, style_mu, style_sigma, mask, use_mean, use_std)  # A Eq. 2: C_{c→s}
-        out = self.denormalize(self.decoder(cs, centred if self.cfg.content_skip else None))  # P_{c→s} (B, T, 263)
+        skip = content - content.mean(1, keepdim=True) if self.cfg.content_skip else None  # (B, T, 263)
+        out = self.denormalize(self.decoder(cs, skip))  # P_{c→s} (B, T, 263)
         return torch.cat([self.denormalize(content)[..., ROOT_DIMS], out[..., 4:]], -1)
 
     def forward(self, content: torch.Tensor, style_features: torch.Tensor, use_mean=True, use_std=True,
@@ -159,14 +184,14 @@ class AdainTransfer(nn.Module):
         f_c = self.denormalize(x_c)
         f_s = batch["style"]["features"]  # unnormalised (B, S, 263)
         # self-reconstruction path: the content motion is its own style input
-        code = self.content_encoder(x_c - x_c.mean(1, keepdim=True))  # C_c (B, T, H), shared by both paths
+        code = self.content_code(x_c)  # C_c (B, T, H), shared by both paths
         mu_cc, sig_cc = self.style_stats(f_c)
         rec = self.normalize(self.stylize(x_c, mu_cc, sig_cc, code=code))
         l_content = (rec[..., 4:] - x_c[..., 4:]).abs().mean()  # A Eq. 4: ‖P_{c→c} − P_c‖₁ (content clips only)
         # stylization path: style clips from the other (retargeted) corpus
         mu_s, sig_s = self.style_stats(f_s)
         out = self.stylize(x_c, mu_s, sig_s, code=code)  # P_{c→s}
-        mu_o, sig_o = self.style_stats(out)  # statistics of E_s(P_{c→s})
+        mu_o, sig_o = self.style_stats(out)  # statistics of E_s(P_{c→s}) (of the frozen E(P_{c→s}) if shared)
         l_style = ((mu_o - mu_s.detach()) ** 2).sum(-1).mean() + ((sig_o - sig_s.detach()) ** 2).sum(-1).mean()  # A Eq. 3
         logs = {"content": l_content, "style": l_style}
         l_rec = l_content
@@ -175,7 +200,10 @@ class AdainTransfer(nn.Module):
             rec_s = self.normalize(self.stylize(x_s, mu_s, sig_s))
             logs["style_rec"] = (rec_s[..., 4:] - x_s[..., 4:]).abs().mean()
             l_rec = 0.5 * (l_content + logs["style_rec"])
-        logs["loss"] = self.cfg.lambda_style * l_style + self.cfg.lambda_content * l_rec  # A Eq. 5
+        if self.pretraining:  # autoencoder steps: the reconstruction paths only (L_style logged, not used)
+            logs["loss"] = l_rec
+        else:
+            logs["loss"] = self.cfg.lambda_style * l_style + self.cfg.lambda_content * l_rec  # A Eq. 5
         return logs
 
     def training_step(self, batch: dict) -> dict:
@@ -238,6 +266,17 @@ def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cp
     train = TransferPairs(content, style, "train", cfg.clip_frames, seed)
     val = TransferPairs(content, style, "val", cfg.clip_frames, seed, random_style=False)
     model = AdainTransfer(cfg, train.content.mean, train.content.std)
+    if cfg.pretrain_steps and resume is None:  # 1: E (and E_s) with the decoder, as an autoencoder
+        model.pretraining = True
+        pre = TrainConfig(**{**asdict(tcfg), "steps": cfg.pretrain_steps})
+        model.pretrain_history = fit(model, train, pre, val, model_name="adain (autoencoder)",
+                                     device=device, progress=progress)
+        model.pretraining = False
+    if cfg.pretrain_steps:  # 2: the encoders frozen, the decoder on A Eq. 5
+        for enc in (model.content_encoder, model.style_encoder):
+            for p in enc.parameters() if enc is not None else ():
+                p.requires_grad_(False)
+        tcfg = TrainConfig(**{**asdict(tcfg), "seed": tcfg.seed + 1})
     history = fit(model, train, tcfg, val, model_name="adain", out=out, resume=resume,
                   device=device, progress=progress)
     return model, history
@@ -252,8 +291,10 @@ def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, res
     out = out or course_path("adain")
     model, h = train_adain(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
                            progress=progress)
-    return run_summary("adain", out, h, **{f"{part}_{k}": round(h[part][k][-1], 4)
-                                           for part in ("train", "val") for k in ("content", "style")})
+    pre = getattr(model, "pretrain_history", None)
+    extra = {"autoencoder_steps": pre["step"][-1], "autoencoder_val_content": round(pre["val"]["content"][-1], 4)} if pre else {}
+    return run_summary("adain", out, h, **extra, **{f"{part}_{k}": round(h[part][k][-1], 4)
+                                                   for part in ("train", "val") for k in ("content", "style")})
 
 
 TRAINABLE = {"adain": _run}

@@ -37,12 +37,13 @@ class DsdnConfig:
     gate_hidden: int = 64  # A Eq. 8: W1 ∈ R^{64×D}
     lambda_vel: float = 1.0  # weight of L_vel (A Eq. 12) beside L_rec (A Eq. 11)
     clip_frames: int = 64  # training crop length (feature rows), a multiple of 4
+    correction_strength: float = 0.5  # inference: κ in P + κ·(DSDN(P) − P); 1 = A's full correction
 
 
 PRESETS = {
     "course": (DsdnConfig(), TrainConfig(steps=600, batch_size=32, lr=1e-3, warmup_steps=20, val_every=100,
                                          val_batches=4)),
-    "paper": (DsdnConfig(clip_frames=196), TrainConfig(steps=20000, batch_size=64, lr=1e-3, val_every=500)),
+    "paper": (DsdnConfig(clip_frames=196, correction_strength=1.0), TrainConfig(steps=20000, batch_size=64, lr=1e-3, val_every=500)),
 }
 
 
@@ -138,14 +139,20 @@ class DSDN(nn.Module):
         return {k: float(v) for k, v in self.losses(batch).items()}
 
     @torch.no_grad()
-    def correct_features(self, features) -> np.ndarray:
-        """Unnormalised stylized features (T, 263) → corrected (T, 263) float64; root dims 0..3 kept."""
+    def correct_features(self, features, strength: float | None = None) -> np.ndarray:
+        """Unnormalised stylized features (T, 263) → corrected (T, 263) float64; root dims 0..3 kept.
+
+        strength κ (default `cfg.correction_strength`): the output moves from the input P towards the
+        network's correction by κ, P + κ·(DSDN(P) − P); κ = 1 is A's full correction. A smaller κ keeps
+        more of stage 1's style, part of which the evaluator reads in the very dynamics stage 2 smooths."""
+        k = self.cfg.correction_strength if strength is None else float(strength)
         f = np.asarray(check_features(features, "features"))
         if f.ndim != 2:
             raise ValueError(f"features: expected one motion of shape (T, 263), got {f.shape}")
         x = torch.as_tensor(f, dtype=torch.float32, device=self.mean.device)[None]
         self.eval()
         out = self((x - self.mean) / self.std)[0] * self.std + self.mean
+        out = x[0] + k * (out - x[0])
         out = torch.cat([x[0, :, ROOT_DIMS], out[:, 4:]], -1)  # the root path stays the content's
         return out.double().cpu().numpy()
 
