@@ -79,6 +79,13 @@ def test_shared_encoder_reads_style_statistics_in_the_content_code_space():
     assert torch.allclose(separate.content_code(x + 1.0), separate.content_code(x), atol=1e-5)
 
 
+def test_a_stored_config_from_before_the_shared_encoder_builds_a_separate_style_encoder():
+    old = {k: v for k, v in A.asdict(TINY).items() if k not in ("shared_encoder", "pretrain_steps")}
+    m = A.AdainTransfer(old)
+    assert m.cfg.shared_encoder is False and isinstance(m.style_encoder, A.StyleEncoder)
+    assert A.AdainTransfer(A.asdict(TINY)).style_encoder is None  # a config that says so is kept
+
+
 def test_pretraining_optimises_reconstruction_only():
     m = _model()
     batch = {"content": {"features": torch.randn(3, 24, 263)}, "style": {"features": torch.randn(3, 31, 263)}}

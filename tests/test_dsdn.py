@@ -91,6 +91,12 @@ def test_correction_strength_moves_linearly_from_the_input_to_the_full_correctio
     assert D.PRESETS["paper"][0].correction_strength == 1.0  # A's full correction
 
 
+def test_a_stored_config_from_before_the_correction_strength_corrects_fully():
+    cfg = {k: v for k, v in _model().config.items() if k != "correction_strength"}
+    assert D.DSDN(cfg).cfg.correction_strength == 1.0
+    assert D.DSDN(_model().config).cfg.correction_strength == D.DsdnConfig().correction_strength
+
+
 def test_tiny_training_lowers_rec_and_the_checkpoint_round_trips(tmp_path):
     torch.manual_seed(0)
     clean = torch.randn(16, 16, 263).cumsum(1) * 0.1

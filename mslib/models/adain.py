@@ -124,7 +124,9 @@ class AdainTransfer(nn.Module):
 
     def __init__(self, cfg: AdainConfig | dict | None = None, mean=None, std=None):
         super().__init__()
-        cfg = AdainConfig(**cfg) if isinstance(cfg, dict) else (cfg or AdainConfig())
+        if isinstance(cfg, dict):  # a stored config without shared_encoder predates it: a separate E_s
+            cfg = AdainConfig(**{"shared_encoder": False, "pretrain_steps": 0, **cfg})
+        cfg = cfg or AdainConfig()
         self.cfg, self.config = cfg, asdict(cfg)
         self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
                                                      dtype=torch.float32).clone())

@@ -99,7 +99,9 @@ class DSDN(nn.Module):
     def __init__(self, cfg: DsdnConfig | dict | None = None, mean=None, std=None):
         super().__init__()
         if isinstance(cfg, dict):
-            cfg = DsdnConfig(**{**cfg, "static_channels": tuple(cfg.get("static_channels", (256, 512)))})
+            # a stored config without correction_strength predates it: those models corrected fully
+            cfg = DsdnConfig(**{"correction_strength": 1.0, **cfg,
+                                "static_channels": tuple(cfg.get("static_channels", (256, 512)))})
         cfg = cfg or DsdnConfig()
         if cfg.mode not in MODES:
             raise ValueError(f"mode: expected one of {MODES}, got {cfg.mode!r}")
