@@ -275,9 +275,8 @@ def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cp
                                      device=device, progress=progress)
         model.pretraining = False
     if cfg.pretrain_steps:  # 2: the encoders frozen, the decoder on A Eq. 5
-        for enc in (model.content_encoder, model.style_encoder):
-            for p in enc.parameters() if enc is not None else ():
-                p.requires_grad_(False)
+        for enc in filter(None, (model.content_encoder, model.style_encoder)):
+            enc.requires_grad_(False)
         tcfg = TrainConfig(**{**asdict(tcfg), "seed": tcfg.seed + 1})
     history = fit(model, train, tcfg, val, model_name="adain", out=out, resume=resume,
                   device=device, progress=progress)
