@@ -126,6 +126,38 @@ def test_tiny_training_run_lowers_the_loss():
     assert np.mean(h["train"]["nce"][-10:]) < np.mean(h["train"]["nce"][:5])
 
 
+def test_autoencoder_steps_drop_the_contrastive_terms():
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny())
+    m.pretraining = True
+    logs = m.training_step({"target": torch.randn(4, 31, 263), "source": torch.randn(4, 31, 263)})
+    assert logs["nce"].item() > 0 and logs["tri"].item() >= 0  # still logged
+    assert logs["loss"].item() == pytest.approx((logs["rec"] + m.cfg.alpha * logs["adv"]).item(), rel=1e-5)
+
+
+def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
+    from mslib.data.corpora import load_builtin
+    builtin = load_builtin(progress=False)
+    calls = []
+    real_fit = C.fit
+
+    def recording_fit(model, data, tcfg, **kw):
+        calls.append({"steps": tcfg.steps, "seed": tcfg.seed, "pretraining": model.pretraining,
+                      "style": [p.detach().clone() for p in model.style_encoder.parameters()],
+                      "content": [p.detach().clone() for p in model.content_encoder.parameters()]})
+        return real_fit(model, data, tcfg, **kw)
+
+    monkeypatch.setattr(C, "fit", recording_fit)
+    cfg = tiny(steps=3, pretrain_steps=2, batch_size=4, warmup_steps=0)
+    m, h = C.train(cfg, builtin["content"], builtin["style"], seed=5, progress=False, val=False)
+    assert [(c["steps"], c["seed"], c["pretraining"]) for c in calls] == [(2, 5, True), (3, 6, False)]
+    assert m.pretrain_history["step"][-1] == 2 and h["step"][-1] == 3
+    assert not any(p.requires_grad for p in m.style_encoder.parameters())
+    assert all(torch.equal(a, b) for a, b in zip(calls[1]["style"], m.style_encoder.parameters()))   # frozen
+    assert any(not torch.equal(a, b) for a, b in zip(calls[0]["style"], calls[1]["style"]))          # trained in 1
+    assert any(not torch.equal(a, b) for a, b in zip(calls[1]["content"], m.content_encoder.parameters()))
+
+
 def test_paired_clips_leave_a_style_out():
     from mslib.data.corpora import load_builtin
     builtin = load_builtin(progress=False)
@@ -203,3 +235,15 @@ def test_findings_round_trip_and_load_before_compute(tmp_path):
     assert CA.load_findings(path) == results
     # an existing file is loaded, never recomputed (the folders given here do not exist)
     assert CA.findings(tmp_path / "no_content", tmp_path / "no_style", path=path) == results
+
+
+@needs_ckpt
+def test_bench_contrastive_beats_both_references_on_the_default_draw():
+    """The part of issue 8's bar the course model meets (H above both reference rows on the default draw);
+    H ≥ 0.60 is not met (the issue stays open), so it is not asserted here."""
+    from mslib.evaluation.bench import Evaluator, load_pairs, run_bench
+    pairs = load_pairs(0, 200)
+    ev = Evaluator()
+    rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("contrastive", "identity", "copy_style")}
+    assert rows["contrastive"]["h"] > max(rows["identity"]["h"], rows["copy_style"]["h"])
+    assert rows["contrastive"]["sra"] > rows["identity"]["sra"] and rows["contrastive"]["cra"] > rows["copy_style"]["cra"]

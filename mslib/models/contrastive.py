@@ -7,12 +7,16 @@ random and never labelled; M^G = G(E_c(M^T) | E_s(M^S)). Losses: C Eq. 1 reconst
 adversarial (non-saturating form), C Eq. 3 InfoNCE with a bilinear score on content codes,
 C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 
-Course preset only (`content_skip=True`, a departure from C, whose G sees only the two codes): G's
-output is added to the target's movement around its time mean, so G supplies the posture and any change
-of the movement. It trains in CPU minutes (the paper-literal variant, `content_skip=False,
-content_norm=False`, scores lower on a validation draw: `tools/contrastive_findings.py`), but the
-movement bypasses E_c, leaving InfoNCE little to enforce, and the posture comes from the style code
-alone, so the style clip's content can leak into the transfer (measured in notebook 03).
+Two departures from C, both in the course preset only (the `paper` preset is C as written):
+- `content_skip=True`: G's output is added to the target's movement around its time mean, so G
+  supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
+  variant, `content_skip=False, content_norm=False`, scores lower on a validation draw:
+  `tools/contrastive_findings.py`), but the movement bypasses E_c, leaving InfoNCE little to enforce,
+  and the posture comes from the style code alone, so the style clip's content can leak into the
+  transfer (measured in notebook 03).
+- `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
+  frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
+  E_s can meet the triplet by moving its codes instead of G moving the style.
 
 The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
 on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
@@ -62,6 +66,7 @@ class ContrastiveConfig:
     batch_size: int = 16
     lr: float = 1e-4
     warmup_steps: int = 0
+    pretrain_steps: int = 0    # autoencoder steps (C Eq. 1 + 2 only) before E_s is frozen; 0: C's joint training
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -70,7 +75,7 @@ class ContrastiveConfig:
             cfg = cls()
         elif name == "course":
             cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=2500, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100, content_skip=True)
+                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
         known = {f.name for f in fields(cls)}
@@ -233,6 +238,8 @@ class ContrastiveModel(nn.Module):
         self.register_buffer("std", torch.ones(D) if std is None else torch.as_tensor(std, dtype=torch.float32))
         self._d_opt = None
 
+    pretraining = False  # True while `train` runs the autoencoder steps (C Eq. 3–4 logged, not used)
+
     # -- pieces
     def generator_parameters(self) -> list:
         """Everything but the discriminator (the one loop's optimiser)."""
@@ -304,7 +311,8 @@ class ContrastiveModel(nn.Module):
         else:
             d_loss = g_adv = torch.zeros((), device=target.device)
         c = self.cfg
-        loss = out["rec"] + c.alpha * g_adv + c.beta * out["nce"] + c.gamma * out["tri"]  # C Eq. 5
+        beta, gamma = (0.0, 0.0) if self.pretraining else (c.beta, c.gamma)
+        loss = out["rec"] + c.alpha * g_adv + beta * out["nce"] + gamma * out["tri"]  # C Eq. 5
         return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
 
     def validation_step(self, batch: dict) -> dict:
@@ -385,7 +393,17 @@ def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, devic
     data = PairedClips(content, style, "train", cfg.crop, exclude_styles)
     model = ContrastiveModel(cfg, data.mean, data.std)
     val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles) if val else None
-    history = fit(model, data, cfg.train_config(seed), val_set=val_set, model_name=NAME, out=out,
+    tcfg = cfg.train_config(seed)
+    if cfg.pretrain_steps and resume is None:  # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2
+        model.pretraining = True
+        model.pretrain_history = fit(model, data, replace(tcfg, steps=cfg.pretrain_steps), val_set=val_set,
+                                     model_name=f"{NAME} (autoencoder)", device=device, progress=progress,
+                                     parameters=model.generator_parameters())
+        model.pretraining = False
+    if cfg.pretrain_steps:  # 2: E_s frozen, the judge of C Eq. 4; E_c, G, W on all of C Eq. 5
+        model.style_encoder.requires_grad_(False)
+        tcfg = replace(tcfg, seed=seed + 1)
+    history = fit(model, data, tcfg, val_set=val_set, model_name=NAME, out=out,
                   resume=resume, device=device, progress=progress, parameters=model.generator_parameters())
     return model, history
 
@@ -408,7 +426,9 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
     model, history = train(cfg, content, style, seed, out, device, resume, progress)
     tr = history["train"]
     last = lambda k: round(float(np.mean(tr[k][-50:])), 4)  # noqa: E731
-    return run_summary(NAME, out, history, seconds=round(time.time() - t0, 1),
+    pre = getattr(model, "pretrain_history", None)
+    extra = {"autoencoder_steps": pre["step"][-1]} if pre else {}
+    return run_summary(NAME, out, history, seconds=round(time.time() - t0, 1), **extra,
                        **{k: last(k) for k in ("rec", "nce", "tri", "adv", "d")})
 
 

@@ -141,8 +141,11 @@ def interpolate_styles(model: ContrastiveModel, content: np.ndarray, style_a: np
 
 # ---------------------------------------------------------------- the short runs
 def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_styles=(), **overrides):
-    """A course-sized model trained for `steps` (no validation, no checkpoint)."""
-    cfg = ContrastiveConfig.preset("course", steps=int(steps), **overrides)
+    """A course-sized model trained jointly, as C does, for `steps` (no validation, no checkpoint).
+
+    No autoencoder phase (`pretrain_steps=0`): with E_s frozen, C Eq. 3–4 could not shape the style
+    codes whose clusters (a) and (d) measure."""
+    cfg = ContrastiveConfig.preset("course", steps=int(steps), **{"pretrain_steps": 0, **overrides})
     model, history = train(cfg, content_folder, style_folder, seed, progress=False,
                            exclude_styles=exclude_styles, val=False)
     return model.eval(), history
