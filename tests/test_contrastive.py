@@ -85,6 +85,22 @@ def test_shapes_and_keep_root():
         C.ContrastiveConfig.preset("course", widht=3)
 
 
+def test_style_strength_mixes_the_style_codes():
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny()).eval()
+    torch.nn.init.normal_(m.generator.head[-1].weight, std=0.1)  # the course G starts as zero: let the code show
+    rng = np.random.default_rng(0)
+    content, style, other = rng.normal(size=(40, 263)), rng.normal(size=(31, 263)), rng.normal(size=(31, 263))
+    assert m.cfg.style_strength == 0.9  # the course preset's, chosen on val
+    np.testing.assert_allclose(m.transfer_features(content, style), m.transfer_features(content, style, 0.9))
+    full = m.transfer_features(content, style, 1.0)                                        # C's transfer
+    np.testing.assert_allclose(m.transfer_features(content, style, 0.0),                   # the content's own code
+                               m.transfer_features(content, content, 1.0), atol=1e-5)
+    assert not np.allclose(m.transfer_features(content, style, 0.5), full)
+    m.cfg = C.ContrastiveConfig.preset("course", hidden=16, style_dim=8, disc_hidden=16, style_strength=0.0)
+    np.testing.assert_allclose(m.transfer_features(content, other), m.transfer_features(content, style), atol=1e-5)
+
+
 def test_discriminator_has_its_own_optimiser():
     torch.manual_seed(0)
     m = C.ContrastiveModel(tiny())

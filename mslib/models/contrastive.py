@@ -7,7 +7,7 @@ random and never labelled; M^G = G(E_c(M^T) | E_s(M^S)). Losses: C Eq. 1 reconst
 adversarial (non-saturating form), C Eq. 3 InfoNCE with a bilinear score on content codes,
 C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 
-Two departures from C, both in the course preset only (the `paper` preset is C as written):
+Three departures from C, all in the course preset only (the `paper` preset is C as written):
 - `content_skip=True`: G's output is added to the target's movement around its time mean, so G
   supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
   variant, `content_skip=False, content_norm=False`, scores lower on a validation draw:
@@ -17,6 +17,9 @@ Two departures from C, both in the course preset only (the `paper` preset is C a
 - `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
   frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
   E_s can meet the triplet by moving its codes instead of G moving the style.
+- `style_strength=0.9`: a transfer decodes E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's mix of
+  two style codes with the target's own as one end; w chosen on a validation sweep
+  (`tools/contrastive_findings.py strength`). w = 1 is C's transfer.
 
 The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
 on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
@@ -67,6 +70,7 @@ class ContrastiveConfig:
     lr: float = 1e-4
     warmup_steps: int = 0
     pretrain_steps: int = 0    # autoencoder steps (C Eq. 1 + 2 only) before E_s is frozen; 0: C's joint training
+    style_strength: float = 1.0  # transfer with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)) (C Fig. 10–11's mix); 1: C's transfer
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -75,7 +79,8 @@ class ContrastiveConfig:
             cfg = cls()
         elif name == "course":
             cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=2500, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500)
+                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500,
+                      style_strength=0.9)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
         known = {f.name for f in fields(cls)}
@@ -322,15 +327,21 @@ class ContrastiveModel(nn.Module):
 
     # -- inference
     @torch.no_grad()
-    def transfer_features(self, content: np.ndarray, style: np.ndarray) -> np.ndarray:
+    def transfer_features(self, content: np.ndarray, style: np.ndarray, strength: float | None = None) -> np.ndarray:
         """Unnormalised (Tc, D) content and (Ts, D) style features → unnormalised (Tc, D) output;
-        the first `keep_root` dims (the root trajectory) are the content's own."""
+        the first `keep_root` dims (the root trajectory) are the content's own. `strength` w (default
+        `cfg.style_strength`) mixes the style codes: E_s(content) + w·(E_s(style) − E_s(content))."""
+        w = self.cfg.style_strength if strength is None else float(strength)
         dev = self.mean.device
         c, s = (torch.as_tensor(np.asarray(a), dtype=torch.float32, device=dev)[None] for a in (content, style))
         self._check(c, "content")
         self._check(s, "style")
         c, s = self.normalize(c), self.normalize(s)
-        out = self.denormalize(self.generate(self.encode_content(c), self.encode_style(s), c.shape[1], c))[0]
+        code = self.encode_style(s)  # (1, l)
+        if w != 1.0:
+            own = self.encode_style(c)
+            code = own + w * (code - own)
+        out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c))[0]
         out = out.cpu().numpy().astype(np.float64)
         k = self.cfg.keep_root
         out[:, :k] = np.asarray(content, np.float64)[:, :k]

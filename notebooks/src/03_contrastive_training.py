@@ -204,6 +204,23 @@ print("course recipe above joint training:", by["course"] > by["joint"],
 # terms *trained jointly* cost more than they give here — the content skip already keeps the movement
 # (so InfoNCE has little left to do) and the triplet can be met by moving E_s. With E_s frozen they
 # add something on top of the autoencoder — but none of them comes near the bar of section 6.
+#
+# **How much style?** C Fig. 10–11 mix two style codes. With the target's *own* code as one end, the
+# mix is a style strength: $G\big(E_c(M^T) \,|\, E_s(M^T) + w\,(E_s(M^S) - E_s(M^T))\big)$, where
+# $w = 1$ is C's transfer and $w = 0$ gives the target back in its own style. The course preset's
+# `style_strength` was chosen on the same validation pairs (`tools/contrastive_findings.py strength`).
+# An accuracy on a few hundred pairs moves by several points from the draw alone (the cell prints the
+# binomial standard error), so read neighbouring rows as a plateau, not a ranking.
+
+# %%
+sweep = recipes["strength"]
+print(f"{'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'content from style clip %':>26}")
+for r in sweep["rows"]:
+    print(f"{r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['content_from_style_clip']:>26.1f}")
+best = max(sweep["rows"], key=lambda r: r["h"])
+print(f"standard error of an accuracy near 50 % on {recipes['val_pairs']} pairs: ±{100 * np.sqrt(0.25 / recipes['val_pairs']):.1f} points")
+print("best w on val:", best["strength"], "| course preset's style_strength:", cfg.style_strength,
+      "| the packaged model's:", model.cfg.style_strength)
 
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
