@@ -10,10 +10,10 @@ C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 Three departures from C, all in the course preset only (the `paper` preset is C as written):
 - `content_skip=True`: G's output is added to the target's movement around its time mean, so G
   supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
-  variant, `content_skip=False, content_norm=False`, scores lower on a validation draw:
-  `tools/contrastive_findings.py`), but the movement bypasses E_c, leaving InfoNCE little to enforce,
-  and the posture comes from the style code alone, so the style clip's content can leak into the
-  transfer (measured in notebook 03).
+  variant, `content_skip=False, content_norm=False`, scores below the course recipe on a validation
+  draw, with the worst FMD: `tools/contrastive_findings.py`), but the movement bypasses E_c, leaving
+  InfoNCE little to enforce, and the posture comes from the style code alone, so the style clip's
+  content can leak into the transfer (measured in notebook 03).
 - `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
   frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
   E_s can meet the triplet by moving its codes instead of G moving the style.
