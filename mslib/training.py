@@ -14,7 +14,7 @@ import math
 import os
 import random
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -224,6 +224,24 @@ def _save(out, model, model_name, opt, sched, history, step, cfg):
     if step < cfg.steps:  # resumable: keep the optimiser state in intermediate checkpoints only
         extra.update(optimizer=opt.state_dict(), scheduler=sched.state_dict())
     save_checkpoint(out, model, getattr(model, "config", {}), model_name, extra)
+
+
+def pretrain_then_freeze(model: torch.nn.Module, train_set: Dataset, cfg: TrainConfig, steps: int, frozen,
+                         resume=None, **fit_kwargs) -> TrainConfig:
+    """The course models' two-phase recipe (A stage 1, C): `steps` of `fit` with `model.pretraining=True`
+    (the model's autoencoder losses; skipped when resuming phase 2), then the `frozen` modules stop
+    requiring gradients; returns phase 2's TrainConfig (seed + 1). steps = 0: `cfg` unchanged."""
+    if not steps:
+        return cfg
+    if resume is None:
+        model.pretraining = True
+        try:
+            model.pretrain_history = fit(model, train_set, replace(cfg, steps=int(steps)), **fit_kwargs)
+        finally:
+            model.pretraining = False
+    for module in frozen:
+        module.requires_grad_(False)
+    return replace(cfg, seed=cfg.seed + 1)
 
 
 def run_summary(name: str, out, history: dict, **extra) -> dict:

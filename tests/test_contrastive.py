@@ -155,7 +155,8 @@ def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
     from mslib.data.corpora import load_builtin
     builtin = load_builtin(progress=False)
     calls = []
-    real_fit = C.fit
+    import mslib.training
+    real_fit = mslib.training.fit
 
     def recording_fit(model, data, tcfg, **kw):
         calls.append({"steps": tcfg.steps, "seed": tcfg.seed, "pretraining": model.pretraining,
@@ -163,7 +164,8 @@ def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
                       "content": [p.detach().clone() for p in model.content_encoder.parameters()]})
         return real_fit(model, data, tcfg, **kw)
 
-    monkeypatch.setattr(C, "fit", recording_fit)
+    monkeypatch.setattr(C, "fit", recording_fit)  # phase 2 (C.train) and phase 1 (the shared two-phase helper)
+    monkeypatch.setattr("mslib.training.fit", recording_fit)
     cfg = tiny(steps=3, pretrain_steps=2, batch_size=4, warmup_steps=0)
     m, h = C.train(cfg, builtin["content"], builtin["style"], seed=5, progress=False, val=False)
     assert [(c["steps"], c["seed"], c["pretraining"]) for c in calls] == [(2, 5, True), (3, 6, False)]

@@ -29,7 +29,7 @@ from torch.utils.data import Dataset
 from ..checkpoints import course_path, load_model
 from ..data.datasets import ContentClips, StyleClips
 from ..motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
-from ..training import TrainConfig, fit, run_summary
+from ..training import TrainConfig, fit, pretrain_then_freeze, run_summary
 from .layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
 
 ROOT_DIMS = slice(0, 4)  # root angular velocity, XZ velocity, height: kept from the content
@@ -268,16 +268,10 @@ def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cp
     train = TransferPairs(content, style, "train", cfg.clip_frames, seed)
     val = TransferPairs(content, style, "val", cfg.clip_frames, seed, random_style=False)
     model = AdainTransfer(cfg, train.content.mean, train.content.std)
-    if cfg.pretrain_steps and resume is None:  # 1: E (and E_s) with the decoder, as an autoencoder
-        model.pretraining = True
-        pre = TrainConfig(**{**asdict(tcfg), "steps": cfg.pretrain_steps})
-        model.pretrain_history = fit(model, train, pre, val, model_name="adain (autoencoder)",
-                                     device=device, progress=progress)
-        model.pretraining = False
-    if cfg.pretrain_steps:  # 2: the encoders frozen, the decoder on A Eq. 5
-        for enc in filter(None, (model.content_encoder, model.style_encoder)):
-            enc.requires_grad_(False)
-        tcfg = TrainConfig(**{**asdict(tcfg), "seed": tcfg.seed + 1})
+    # 1: E (and E_s) with the decoder, as an autoencoder; 2: the encoders frozen, the decoder on A Eq. 5
+    tcfg = pretrain_then_freeze(model, train, tcfg, cfg.pretrain_steps,
+                                filter(None, (model.content_encoder, model.style_encoder)), resume=resume,
+                                val_set=val, model_name="adain (autoencoder)", device=device, progress=progress)
     history = fit(model, train, tcfg, val, model_name="adain", out=out, resume=resume,
                   device=device, progress=progress)
     return model, history

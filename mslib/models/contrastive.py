@@ -39,7 +39,7 @@ from torch.utils.data import Dataset
 from ..checkpoints import course_path, load_state
 from ..data.datasets import MotionFolder
 from ..motion.features import N_FEATURES, decode
-from ..training import TrainConfig, fit, run_summary
+from ..training import TrainConfig, fit, pretrain_then_freeze, run_summary
 from .layers import ResBlock1d, adain
 
 NAME = "contrastive"
@@ -404,16 +404,10 @@ def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, devic
     data = PairedClips(content, style, "train", cfg.crop, exclude_styles)
     model = ContrastiveModel(cfg, data.mean, data.std)
     val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles) if val else None
-    tcfg = cfg.train_config(seed)
-    if cfg.pretrain_steps and resume is None:  # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2
-        model.pretraining = True
-        model.pretrain_history = fit(model, data, replace(tcfg, steps=cfg.pretrain_steps), val_set=val_set,
-                                     model_name=f"{NAME} (autoencoder)", device=device, progress=progress,
-                                     parameters=model.generator_parameters())
-        model.pretraining = False
-    if cfg.pretrain_steps:  # 2: E_s frozen, the judge of C Eq. 4; E_c, G, W on all of C Eq. 5
-        model.style_encoder.requires_grad_(False)
-        tcfg = replace(tcfg, seed=seed + 1)
+    # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
+    tcfg = pretrain_then_freeze(model, data, cfg.train_config(seed), cfg.pretrain_steps, [model.style_encoder],
+                                resume=resume, val_set=val_set, model_name=f"{NAME} (autoencoder)", device=device,
+                                progress=progress, parameters=model.generator_parameters())
     history = fit(model, data, tcfg, val_set=val_set, model_name=NAME, out=out,
                   resume=resume, device=device, progress=progress, parameters=model.generator_parameters())
     return model, history
