@@ -265,3 +265,32 @@ def test_bench_contrastive_beats_both_references_on_the_default_draw():
     rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("contrastive", "identity", "copy_style")}
     assert rows["contrastive"]["h"] > max(rows["identity"]["h"], rows["copy_style"]["h"])
     assert rows["contrastive"]["sra"] > rows["identity"]["sra"] and rows["contrastive"]["cra"] > rows["copy_style"]["cra"]
+
+
+def _findings_tool():
+    """tools/contrastive_findings.py, imported by path (tools/ is not a package)."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "tools" / "contrastive_findings.py"
+    spec = importlib.util.spec_from_file_location("contrastive_findings", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_statistics_mix_and_posture_shift_known_answers():
+    tool = _findings_tool()
+    rng = np.random.default_rng(0)
+    c, s = rng.normal(size=(40, 263)), rng.normal(2.0, 3.0, size=(50, 263))
+    assert np.allclose(tool.stats_mix(c, s, 0.0, 0.0), c)  # nothing moved: the identity
+    full = tool.stats_mix(c, s, 1.0, 0.0)  # the posture swapped, the movement kept
+    assert np.allclose(full[:, :3], c[:, :3])  # the root trajectory stays the content's
+    assert np.allclose(full[:, 3:].mean(0), s[:, 3:].mean(0))
+    assert np.allclose((full - full.mean(0))[:, 3:], (c - c.mean(0))[:, 3:])
+    amp = tool.stats_mix(c, s, 0.0, 1.0)  # A Eq. 2's σ part: each dim's spread becomes the style clip's
+    assert np.allclose(amp[:, 3:].std(0), (s.std(0) + 1e-3)[3:] / (c.std(0) + 1e-3)[3:] * c.std(0)[3:])
+    assert np.allclose(amp.mean(0), c.mean(0))
+    for w in (0.0, 0.25, 1.0):
+        moved = c + w * (s.mean(0) - c.mean(0))
+        assert math.isclose(tool.posture_moved(moved, c, s), w, abs_tol=1e-9)
+    assert math.isclose(tool.posture_moved(tool.stats_mix(c, s, 0.5, 0.5), c, s), 0.5, abs_tol=1e-9)

@@ -3,6 +3,7 @@
     .venv/bin/python tools/contrastive_findings.py train VARIANT OUT.pt   # one training recipe
     .venv/bin/python tools/contrastive_findings.py val course OUT.pt       # H, CRA, SRA on a val draw
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
+    .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
 
 `train` trains one variant of the course preset for the same steps as the packaged checkpoint:
     literal      C §3, §4.1 as written: G sees only the two codes (`content_skip=False`), E_c without
@@ -15,8 +16,12 @@
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
 (style strength w = 1). `strength` scores the packaged checkpoint on the same pairs at several w
-(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))): how the course preset's `style_strength` was chosen. With `--save`
-both write into notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d)
+(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))): how the course preset's `style_strength` was chosen. `ceiling`
+scores, on the same pairs, transfers that learn nothing: the target's 263-d features with their time
+mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
+(σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
+transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
+and measures how far the posture moves toward the style clip's. With `--save` all three write into notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d)
 themselves: `python -m mslib.models.contrastive_analysis`.
 """
 from __future__ import annotations
@@ -58,6 +63,49 @@ def score(model, pairs, evaluator, strength=None) -> dict:
 
 
 STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) of the no-learning transfers; (0, 0): identity
+
+
+def stats_mix(content: np.ndarray, style: np.ndarray, w_mean: float, w_std: float, keep_root: int = 3) -> np.ndarray:
+    """A Eq. 2 on the raw (T, 263) features, partway: (c − μ(c))·(σ(s)/σ(c))^w_σ + μ(c) + w_μ·(μ(s) − μ(c));
+    the root trajectory (first `keep_root` dims) stays the content's."""
+    mu_c, mu_s = content.mean(0), style.mean(0)
+    gain = ((style.std(0) + 1e-3) / (content.std(0) + 1e-3)) ** w_std
+    out = (content - mu_c) * gain + mu_c + w_mean * (mu_s - mu_c)
+    out[:, :keep_root] = content[:, :keep_root]
+    return out
+
+
+def posture_moved(out: np.ndarray, content: np.ndarray, style: np.ndarray) -> float:
+    """How far the time mean of the root-relative joints (the ric block) moved from the content's toward
+    the style clip's: the projection ⟨μ(out) − μ(c), μ(s) − μ(c)⟩ / ‖μ(s) − μ(c)‖² (0: not at all, 1: all the way)."""
+    from mslib.motion.features import BLOCKS
+    ric = BLOCKS["ric"]
+    d_out, d_s = out[:, ric].mean(0) - content[:, ric].mean(0), style[:, ric].mean(0) - content[:, ric].mean(0)
+    return float(d_out @ d_s / max(d_s @ d_s, 1e-12))
+
+
+def ceiling(model, pairs, evaluator) -> dict:
+    """The no-learning transfers, the packaged model's transfer split into posture and movement, and its posture shift."""
+    from mslib.evaluation.bench import evaluate
+    from mslib.motion.features import decode
+
+    def row(label, feats):
+        r = evaluate([decode(f) for f in feats], pairs, evaluator)
+        out = {"transfer": label, **{k: round(float(r[k]), 4) for k in ("h", "cra", "sra", "fmd")}}
+        print(out, flush=True)
+        return out
+    cs = [(c["features"].astype(np.float64), s["features"].astype(np.float64)) for c, s in pairs]
+    rows = [row(f"statistics, w_mean={wm}, w_std={ws}", [stats_mix(c, s, wm, ws) for c, s in cs])
+            for wm, ws in STATS_MIXES]
+    outs = [model.transfer_features(c, s) for c, s in cs]
+    own = lambda o, c: np.concatenate([c[:, :3], o[:, 3:]], 1)  # noqa: E731  (root trajectory: the content's)
+    rows.append(row("course model", outs))
+    rows.append(row("course model's posture, target's movement", [own(c - c.mean(0) + o.mean(0), c) for o, (c, _) in zip(outs, cs)]))
+    rows.append(row("target's posture, course model's movement", [own(o - o.mean(0) + c.mean(0), c) for o, (c, _) in zip(outs, cs)]))
+    moved = [posture_moved(o, c, s) for o, (c, s) in zip(outs, cs)]
+    return {"rows": rows, "strength": model.cfg.style_strength,
+            "posture_moved_median": round(float(np.median(moved)), 4)}
 
 
 def _command(argv) -> str:
@@ -82,6 +130,8 @@ def main(argv=None) -> int:
     t.add_argument("--seed", type=int, default=0)
     w = sub.add_parser("strength", help="the packaged checkpoint at several style strengths on the val pairs")
     w.add_argument("--save", action="store_true")
+    g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
+    g.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
     v.add_argument("--save", action="store_true", help=f"write the rows to {RECIPES_JSON.relative_to(ROOT)}")
@@ -95,6 +145,12 @@ def main(argv=None) -> int:
         return 0
     from mslib.evaluation.bench import Evaluator, load_pairs
     pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()
+    if args.cmd == "ceiling":
+        part = ceiling(C.load(), pairs, evaluator)
+        print("posture moved (median):", part["posture_moved_median"])
+        if args.save:
+            _save({"ceiling": {"command": _command(argv), **part}})
+        return 0
     if args.cmd == "strength":
         model = C.load()
         sweep = []

@@ -228,6 +228,46 @@ print(f"standard error of an accuracy near 50 % on {recipes['val_pairs']} pairs:
 print("best w on val:", best["strength"], "| course preset's style_strength:", cfg.style_strength,
       "| the packaged model's:", model.cfg.style_strength)
 
+# %% [markdown]
+# **Where does the style of a transfer live?** Two checks on the same validation pairs
+# (`tools/contrastive_findings.py ceiling`). First, transfers that learn nothing: A Eq. 2 applied to the
+# raw 263-d features, partway — the target's time mean (its *posture*) moved a fraction $w_\mu$ toward
+# the style clip's, its movement around that mean scaled per dimension by
+# $(\sigma_\text{style}/\sigma_\text{target})^{w_\sigma}$. Second, the course model's transfer split into
+# its posture and the movement around it, each swapped for the target's own; and how far the posture moved
+# toward the style clip's (the projection of the change of the joints' time mean onto the line from the
+# target's to the style clip's; 0 = not at all, 1 = all the way).
+
+# %%
+ceil = recipes["ceiling"]
+print(ceil["command"], "| style strength of the course model:", ceil["strength"])
+print(f"{'transfer':>45} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7}")
+for r in ceil["rows"]:
+    print(f"{r['transfer']:>45} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f}")
+by_t = {r["transfer"]: r for r in ceil["rows"]}
+course_row = by_t["course model"]
+stats_rows = [r for k, r in by_t.items() if k.startswith("statistics")]
+print("posture moved toward the style clip's (median over pairs):", ceil["posture_moved_median"])
+print("full posture swap: SRA above the course model's:", by_t["statistics, w_mean=1.0, w_std=0.0"]["sra"] > course_row["sra"],
+      "| CRA below it:", by_t["statistics, w_mean=1.0, w_std=0.0"]["cra"] < course_row["cra"])
+identity_h = by_t["statistics, w_mean=0.0, w_std=0.0"]["h"]  # nothing moved: the identity transfer
+posture_only = by_t["course model's posture, target's movement"]["h"]
+movement_only = by_t["target's posture, course model's movement"]["h"]
+print(f"H, the model's posture on the target's movement minus the model's: {posture_only - course_row['h']:+.3f}")
+print(f"H, the model's movement on the target's posture minus identity's: {movement_only - identity_h:+.3f}")
+print("some no-learning mix scores above the model:", any(r["h"] > course_row["h"] for r in stats_rows))
+
+# %% [markdown]
+# What this says about the course model: its style lives in the **posture**. Keep its posture and give
+# back the target's own movement, and H barely moves (set the difference beside the standard error of an
+# accuracy printed above); keep its movement and give back the target's posture, and it falls to about
+# identity's (the mix with $w_\mu = w_\sigma = 0$). And the posture moves only part of the way toward the
+# style clip's. The evaluator reads the posture too, but a *full* posture swap also carries the style
+# clip's content (a punch's arm held forward), so CRA collapses. The best of these mixes moves the
+# posture partway *and* scales the movement — with motions far from real ones (its FMD). A better
+# contrastive model would have to change the movement, not only the posture; C's terms, as trained
+# here, do not teach G to.
+
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
 
