@@ -21,8 +21,9 @@ scores, on the same pairs, transfers that learn nothing: the target's 263-d feat
 mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
 transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
-and measures how far the posture moves toward the style clip's. With `--save` all three write into notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d)
-themselves: `python -m mslib.models.contrastive_analysis`.
+and measures how far the posture moves toward the style clip's. With `--save` all three write into
+notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
+`python -m mslib.models.contrastive_analysis`.
 """
 from __future__ import annotations
 
@@ -38,7 +39,9 @@ sys.path.insert(0, str(ROOT))
 RECIPES_JSON = ROOT / "notebooks" / "data" / "03_contrastive_recipes.json"
 
 from mslib.data.corpora import load_builtin  # noqa: E402
+from mslib.evaluation.bench import Evaluator, evaluate, load_pairs  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
+from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 
 VARIANTS = {  # course config → overrides; the joint recipes train as many steps as the course's two phases
@@ -49,10 +52,13 @@ VARIANTS = {  # course config → overrides; the joint recipes train as many ste
 }
 
 
+def rounded(row: dict) -> dict:
+    """A row of metrics with its numbers rounded for the JSON."""
+    return {k: round(float(v), 4) for k, v in row.items()}
+
+
 def score(model, pairs, evaluator, strength=None) -> dict:
     """Bench metrics on the pairs, plus the share of outputs classified as the style clip's content."""
-    from mslib.evaluation.bench import evaluate
-    from mslib.motion.features import decode
     outs = [decode(model.transfer_features(c["features"], s["features"], strength)) for c, s in pairs]
     row = evaluate(outs, pairs, evaluator)
     c_logits = evaluator.score(outs)[0]
@@ -66,20 +72,19 @@ STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) of the no-learning transfers; (0, 0): identity
 
 
-def stats_mix(content: np.ndarray, style: np.ndarray, w_mean: float, w_std: float, keep_root: int = 3) -> np.ndarray:
+def stats_mix(content: np.ndarray, style: np.ndarray, w_mean: float, w_std: float) -> np.ndarray:
     """A Eq. 2 on the raw (T, 263) features, partway: (c − μ(c))·(σ(s)/σ(c))^w_σ + μ(c) + w_μ·(μ(s) − μ(c));
-    the root trajectory (first `keep_root` dims) stays the content's."""
+    the root trajectory (TRAJECTORY_DIMS) stays the content's. w_σ = 0, w_μ = 1: c's movement on s's posture."""
     mu_c, mu_s = content.mean(0), style.mean(0)
     gain = ((style.std(0) + 1e-3) / (content.std(0) + 1e-3)) ** w_std
     out = (content - mu_c) * gain + mu_c + w_mean * (mu_s - mu_c)
-    out[:, :keep_root] = content[:, :keep_root]
+    out[:, TRAJECTORY_DIMS] = content[:, TRAJECTORY_DIMS]
     return out
 
 
 def posture_moved(out: np.ndarray, content: np.ndarray, style: np.ndarray) -> float:
     """How far the time mean of the root-relative joints (the ric block) moved from the content's toward
     the style clip's: the projection ⟨μ(out) − μ(c), μ(s) − μ(c)⟩ / ‖μ(s) − μ(c)‖² (0: not at all, 1: all the way)."""
-    from mslib.motion.features import BLOCKS
     ric = BLOCKS["ric"]
     d_out, d_s = out[:, ric].mean(0) - content[:, ric].mean(0), style[:, ric].mean(0) - content[:, ric].mean(0)
     return float(d_out @ d_s / max(d_s @ d_s, 1e-12))
@@ -87,22 +92,18 @@ def posture_moved(out: np.ndarray, content: np.ndarray, style: np.ndarray) -> fl
 
 def ceiling(model, pairs, evaluator) -> dict:
     """The no-learning transfers, the packaged model's transfer split into posture and movement, and its posture shift."""
-    from mslib.evaluation.bench import evaluate
-    from mslib.motion.features import decode
-
     def row(label, feats):
         r = evaluate([decode(f) for f in feats], pairs, evaluator)
-        out = {"transfer": label, **{k: round(float(r[k]), 4) for k in ("h", "cra", "sra", "fmd")}}
+        out = {"transfer": label, **rounded({k: r[k] for k in ("h", "cra", "sra", "fmd")})}
         print(out, flush=True)
         return out
     cs = [(c["features"].astype(np.float64), s["features"].astype(np.float64)) for c, s in pairs]
     rows = [row(f"statistics, w_mean={wm}, w_std={ws}", [stats_mix(c, s, wm, ws) for c, s in cs])
             for wm, ws in STATS_MIXES]
-    outs = [model.transfer_features(c, s) for c, s in cs]
-    own = lambda o, c: np.concatenate([c[:, :3], o[:, 3:]], 1)  # noqa: E731  (root trajectory: the content's)
+    outs = [model.transfer_features(c, s) for c, s in cs]  # root trajectory: the content's
     rows.append(row("course model", outs))
-    rows.append(row("course model's posture, target's movement", [own(c - c.mean(0) + o.mean(0), c) for o, (c, _) in zip(outs, cs)]))
-    rows.append(row("target's posture, course model's movement", [own(o - o.mean(0) + c.mean(0), c) for o, (c, _) in zip(outs, cs)]))
+    rows.append(row("course model's posture, target's movement", [stats_mix(c, o, 1.0, 0.0) for o, (c, _) in zip(outs, cs)]))
+    rows.append(row("target's posture, course model's movement", [stats_mix(o, c, 1.0, 0.0) for o, (c, _) in zip(outs, cs)]))
     moved = [posture_moved(o, c, s) for o, (c, s) in zip(outs, cs)]
     return {"rows": rows, "strength": model.cfg.style_strength,
             "posture_moved_median": round(float(np.median(moved)), 4)}
@@ -143,7 +144,6 @@ def main(argv=None) -> int:
         C.train(cfg, paths["content"], paths["style"], seed=args.seed, out=args.out)
         print(args.out)
         return 0
-    from mslib.evaluation.bench import Evaluator, load_pairs
     pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()
     if args.cmd == "ceiling":
         part = ceiling(C.load(), pairs, evaluator)
@@ -155,7 +155,7 @@ def main(argv=None) -> int:
         model = C.load()
         sweep = []
         for st in STRENGTHS:
-            sweep.append({"strength": st, **{k: round(float(v), 4) for k, v in score(model, pairs, evaluator, st).items()}})
+            sweep.append({"strength": st, **rounded(score(model, pairs, evaluator, st))})
             print(sweep[-1], flush=True)
         if args.save:
             _save({"strength": {"command": _command(argv), "course_strength": model.cfg.style_strength, "rows": sweep}})
@@ -166,7 +166,7 @@ def main(argv=None) -> int:
         if ck != "course" and not Path(ck).is_file():
             raise SystemExit(f"checkpoint {ck}: no such file")
         model = C.load(None if ck == "course" else ck)
-        row = {"variant": label, **{k: round(float(v), 4) for k, v in score(model, pairs, evaluator, 1.0).items()},
+        row = {"variant": label, **rounded(score(model, pairs, evaluator, 1.0)),
                "steps": [model.cfg.pretrain_steps, model.cfg.steps]}
         rows.append(row)
         print(row, flush=True)
