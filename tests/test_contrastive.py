@@ -294,3 +294,26 @@ def test_statistics_mix_and_posture_shift_known_answers():
         moved = c + w * (s.mean(0) - c.mean(0))
         assert math.isclose(tool.posture_moved(moved, c, s), w, abs_tol=1e-9)
     assert math.isclose(tool.posture_moved(tool.stats_mix(c, s, 0.5, 0.5), c, s), 0.5, abs_tol=1e-9)
+
+
+def test_seed_table_refuses_other_recipes_and_repeated_seeds(tmp_path, monkeypatch):
+    """`contrastive_findings.py seeds` checks every checkpoint before it scores any."""
+    from dataclasses import asdict
+
+    from mslib.checkpoints import read_checkpoint, save_checkpoint
+    tool = _findings_tool()
+    packaged_seed = read_checkpoint(course_path(C.NAME), C.NAME)["extra"]["train_config"]["seed"] - 1
+    scored = []
+    monkeypatch.setattr(tool, "score", lambda *a, **k: scored.append(a) or {})
+    course = C.ContrastiveConfig.preset("course")
+    other = C.ContrastiveConfig.preset("course", beta=0.0)
+    for name, cfg, seed in (("other.pt", other, packaged_seed + 1), ("same.pt", course, packaged_seed)):
+        save_checkpoint(tmp_path / name, C.ContrastiveModel(cfg), asdict(cfg), C.NAME,
+                        extra={"train_config": {"seed": seed + 1}})  # phase 2 runs at seed + 1
+    with pytest.raises(SystemExit, match="not trained with the course preset"):
+        tool.main(["seeds", str(tmp_path / "other.pt")])
+    with pytest.raises(SystemExit, match=f"seed {packaged_seed} twice"):  # the packaged checkpoint's seed again
+        tool.main(["seeds", str(tmp_path / "same.pt")])
+    with pytest.raises(SystemExit, match="no such file"):
+        tool.main(["seeds", str(tmp_path / "missing.pt")])
+    assert scored == []

@@ -4,6 +4,7 @@
     .venv/bin/python tools/contrastive_findings.py val course OUT.pt       # H, CRA, SRA on a val draw
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
+    .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds
 
 `train` trains one variant of the course preset for the same steps as the packaged checkpoint:
     literal      C §3, §4.1 as written: G sees only the two codes (`content_skip=False`), E_c without
@@ -21,7 +22,10 @@ scores, on the same pairs, transfers that learn nothing: the target's 263-d feat
 mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
 transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
-and measures how far the posture moves toward the style clip's. With `--save` all three write into
+and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
+scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
+course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
+recipe rows) and at the course style strength: how much of a difference between two recipes one training run's luck can make. With `--save` all three write into
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
 `python -m mslib.models.contrastive_analysis`.
 """
@@ -30,6 +34,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -38,9 +43,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 RECIPES_JSON = ROOT / "notebooks" / "data" / "03_contrastive_recipes.json"
 
+from mslib.checkpoints import course_path, read_checkpoint  # noqa: E402
 from mslib.data.corpora import load_builtin  # noqa: E402
 from mslib.evaluation.bench import Evaluator, evaluate, load_pairs  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
+from mslib.models.adain import load_adain  # noqa: E402
 from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 
@@ -105,8 +112,13 @@ def ceiling(model, pairs, evaluator) -> dict:
     rows.append(row("course model's posture, target's movement", [stats_mix(c, o, 1.0, 0.0) for o, (c, _) in zip(outs, cs)]))
     rows.append(row("target's posture, course model's movement", [stats_mix(o, c, 1.0, 0.0) for o, (c, _) in zip(outs, cs)]))
     moved = [posture_moved(o, c, s) for o, (c, s) in zip(outs, cs)]
+    adain = load_adain()  # for comparison: paper A's course model (notebook 02), a transfer of feature statistics
+    a_outs = [adain.transfer_features(c, s) for c, s in cs]
+    rows.append(row("paper A course model", a_outs))
+    a_moved = [posture_moved(o, c, s) for o, (c, s) in zip(a_outs, cs)]
     return {"rows": rows, "strength": model.cfg.style_strength,
-            "posture_moved_median": round(float(np.median(moved)), 4)}
+            "posture_moved_median": round(float(np.median(moved)), 4),
+            "adain_posture_moved_median": round(float(np.median(a_moved)), 4)}
 
 
 def _command(argv) -> str:
@@ -133,6 +145,10 @@ def main(argv=None) -> int:
     w.add_argument("--save", action="store_true")
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
     g.add_argument("--save", action="store_true")
+    d = sub.add_parser("seeds", help="the course recipe trained with other seeds (`train course OUT --seed N`), "
+                                     "scored beside the packaged checkpoint at the course style strength")
+    d.add_argument("checkpoints", nargs="+", help="checkpoints made by `train course OUT --seed N`")
+    d.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
     v.add_argument("--save", action="store_true", help=f"write the rows to {RECIPES_JSON.relative_to(ROOT)}")
@@ -150,6 +166,30 @@ def main(argv=None) -> int:
         print("posture moved (median):", part["posture_moved_median"])
         if args.save:
             _save({"ceiling": {"command": _command(argv), **part}})
+        return 0
+    if args.cmd == "seeds":
+        models, trained = {}, []
+        for ck in [None, *args.checkpoints]:  # check every checkpoint before scoring any
+            if ck is not None and not Path(ck).is_file():
+                raise SystemExit(f"checkpoint {ck}: no such file")
+            model = C.load(ck)
+            if json.dumps(asdict(model.cfg), sort_keys=True) != json.dumps(asdict(C.ContrastiveConfig.preset("course")), sort_keys=True):
+                raise SystemExit(f"checkpoint {ck or 'packaged'}: not trained with the course preset")
+            seed = read_checkpoint(ck or course_path(C.NAME), C.NAME)["extra"]["train_config"]["seed"] - 1  # phase 2: seed + 1
+            if seed in models:
+                raise SystemExit(f"checkpoint {ck}: seed {seed} twice")
+            models[seed] = model
+            if ck is not None:
+                trained.append(f"python tools/contrastive_findings.py train course {Path(ck).name} --seed {seed}")
+        rows = []
+        for seed, model in models.items():
+            for st in sorted({1.0, model.cfg.style_strength}):  # C's transfer (the recipe table's w) and the course w
+                rows.append({"seed": seed, "strength": st, **rounded(score(model, pairs, evaluator, st))})
+                print(rows[-1], flush=True)
+        if args.save:  # the command as a reader reruns it: train each seed, then score
+            names = " ".join(Path(ck).name for ck in args.checkpoints)
+            _save({"seeds": {"command": " && ".join([*trained, f"python tools/contrastive_findings.py seeds {names} --save"]),
+                             "rows": rows}})
         return 0
     if args.cmd == "strength":
         model = C.load()

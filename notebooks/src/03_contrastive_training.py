@@ -229,6 +229,41 @@ print("best w on val:", best["strength"], "| course preset's style_strength:", c
       "| the packaged model's:", model.cfg.style_strength)
 
 # %% [markdown]
+# **How much is one run's luck?** The draw of pairs is one source of noise; the training run is another.
+# The same course recipe, trained again with other seeds (`tools/contrastive_findings.py train course
+# OUT --seed N`) and scored on the same validation pairs, at C's transfer ($w = 1$, as in the recipe table)
+# and at the course style strength (`tools/contrastive_findings.py seeds`). Every other row in this section
+# is *one* run per recipe, so hold their differences against this spread.
+
+# %%
+seeds = recipes["seeds"]
+print(seeds["command"])
+print(f"{'seed':>5} {'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content from style clip %':>26}")
+for r in seeds["rows"]:
+    print(f"{r['seed']:>5} {r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} "
+          f"{r['content_from_style_clip']:>26.1f}")
+for st in sorted({r["strength"] for r in seeds["rows"]}):
+    hs = np.array([r["h"] for r in seeds["rows"] if r["strength"] == st])
+    print(f"w = {st}: H over {len(hs)} seeds: mean {hs.mean():.3f}, standard deviation {hs.std(ddof=1):.3f}, "
+          f"range {hs.max() - hs.min():.3f}")
+h_w1 = {r["seed"]: r["h"] for r in seeds["rows"] if r["strength"] == 1.0}
+packaged_seed = seeds["rows"][0]["seed"]
+gaps = sorted(by.values(), reverse=True)
+print(f"packaged run (seed {packaged_seed}) the best of these seeds at w = 1:", h_w1[packaged_seed] == max(h_w1.values()),
+      "| seed range at w = 1 wider than the gap between the two best recipes above:",
+      max(h_w1.values()) - min(h_w1.values()) > gaps[0] - gaps[1])
+h_course_w = {r["seed"]: r["h"] for r in seeds["rows"] if r["strength"] == cfg.style_strength}
+print(f"w = {cfg.style_strength} above w = 1 for every seed:", all(h_course_w[k] > h_w1[k] for k in h_w1),
+      "| course recipe's lead over joint and literal wider than the seed range at w = 1:",
+      all(by["course"] - by[k] > max(h_w1.values()) - min(h_w1.values()) for k in ("joint", "literal")))
+
+# %% [markdown]
+# So the packaged checkpoint is a lucky run, the course recipe's lead over the autoencoder alone is about
+# one run's luck (the first check), and the style strength picked on the packaged run does not carry over
+# to the other seeds (the second): $w$ was fitted to one run. The larger gaps in the recipe table — the
+# two-phase recipe over joint training and over the paper-literal one — stand above this spread.
+
+# %% [markdown]
 # **Where does the style of a transfer live?** Two checks on the same validation pairs
 # (`tools/contrastive_findings.py ceiling`). First, transfers that learn nothing: A Eq. 2 applied to the
 # raw 263-d features, partway — the target's time mean (its *posture*) moved a fraction $w_\mu$ toward
@@ -236,7 +271,9 @@ print("best w on val:", best["strength"], "| course preset's style_strength:", c
 # $(\sigma_\text{style}/\sigma_\text{target})^{w_\sigma}$. Second, the course model's transfer split into
 # its posture and the movement around it, each swapped for the target's own; and how far the posture moved
 # toward the style clip's (the projection of the change of the joints' time mean onto the line from the
-# target's to the style clip's; 0 = not at all, 1 = all the way).
+# target's to the style clip's; 0 = not at all, 1 = all the way). Paper A's course model from notebook 02,
+# which moves the statistics of its encoder's features halfway toward the style clip's, is scored and
+# measured the same way for comparison.
 
 # %%
 ceil = recipes["ceiling"]
@@ -256,6 +293,10 @@ movement_only = by_t["target's posture, course model's movement"]["h"]
 print(f"H, the model's posture on the target's movement minus the model's: {posture_only - course_row['h']:+.3f}")
 print(f"H, the model's movement on the target's posture minus identity's: {movement_only - identity_h:+.3f}")
 print("some no-learning mix scores above the model:", any(r["h"] > course_row["h"] for r in stats_rows))
+a_row = by_t["paper A course model"]
+print("paper A's posture moved (median):", ceil["adain_posture_moved_median"],
+      "| further than this model's:", ceil["adain_posture_moved_median"] > ceil["posture_moved_median"],
+      "| A's H above this model's:", a_row["h"] > course_row["h"], "| A's FMD above this model's:", a_row["fmd"] > course_row["fmd"])
 
 # %% [markdown]
 # What this says about the course model: its style lives in the **posture**. Keep its posture and give
@@ -264,9 +305,11 @@ print("some no-learning mix scores above the model:", any(r["h"] > course_row["h
 # identity's (the mix with $w_\mu = w_\sigma = 0$). And the posture moves only part of the way toward the
 # style clip's. The evaluator reads the posture too, but a *full* posture swap also carries the style
 # clip's content (a punch's arm held forward), so CRA collapses. The best of these mixes moves the
-# posture partway *and* scales the movement — with motions far from real ones (its FMD). A better
-# contrastive model would have to change the movement, not only the posture; C's terms, as trained
-# here, do not teach G to.
+# posture partway *and* scales the movement — with motions far from real ones (its FMD). Paper A's
+# course model sits with those mixes: its posture moves further than this model's, and its H and FMD
+# are close to the mixes' — it scores higher by moving more, at the price of realism. A better
+# contrastive model would have to move the posture further without carrying the style clip's content,
+# and change the movement, not only the posture; C's terms, as trained here, do not teach G to.
 
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
