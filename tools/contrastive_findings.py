@@ -25,7 +25,8 @@ transfer into its time mean (the posture) and the movement around it, swapping e
 and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
 scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
 course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
-recipe rows) and at the course style strength: how much of a difference between two recipes one training run's luck can make. With `--save` all three write into
+recipe rows) and at the course style strength: how much of a difference between two recipes one
+training run's luck can make. With `--save` each writes its part of
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
 `python -m mslib.models.contrastive_analysis`.
 """
@@ -146,7 +147,7 @@ def main(argv=None) -> int:
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
     g.add_argument("--save", action="store_true")
     d = sub.add_parser("seeds", help="the course recipe trained with other seeds (`train course OUT --seed N`), "
-                                     "scored beside the packaged checkpoint at the course style strength")
+                                     "scored beside the packaged checkpoint at w = 1 and the course style strength")
     d.add_argument("checkpoints", nargs="+", help="checkpoints made by `train course OUT --seed N`")
     d.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
