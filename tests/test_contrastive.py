@@ -114,6 +114,21 @@ def test_discriminator_has_its_own_optimiser():
     assert logs["loss"].item() == pytest.approx(total.item(), rel=1e-5)
 
 
+def test_discriminator_real_set_is_the_source_or_both_clips(monkeypatch):
+    """C Eq. 2's real motions: the style clips (default) or the target clips too (`disc_real="both"`)."""
+    target, source = torch.randn(4, 31, 263), torch.randn(4, 31, 263)
+    for real, n_real in (("source", 4), ("both", 8)):
+        torch.manual_seed(0)
+        m = C.ContrastiveModel(tiny(disc_real=real))
+        seen = []
+        monkeypatch.setattr(C, "adversarial_losses", lambda r, f, _seen=seen: _seen.append(r.shape[0]) or
+                            (r.mean() * 0 + f.mean() * 0, f.mean() * 0))
+        m.training_step({"target": target, "source": source})
+        assert seen == [n_real]  # rows of D's logits on the real motions
+    with pytest.raises(ValueError, match="disc_real"):
+        C.ContrastiveConfig.preset("course", disc_real="target")
+
+
 class Smooth(Dataset):
     """Random smooth (target, source) pairs: one sine per channel, each clip with its own time shift."""
 

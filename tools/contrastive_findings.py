@@ -12,7 +12,9 @@
     joint        the course sizes and content skip, C Eq. 5 from the first step (the course recipe
                  before the autoencoder phase);
     autoencoder  the autoencoder phase alone: C Eq. 1 + 2 (β = γ = 0), no contrastive terms;
-    course       the course recipe: the autoencoder phase, then E_s frozen and all of C Eq. 5.
+    course       the course recipe: the autoencoder phase, then E_s frozen and all of C Eq. 5;
+    d_real_both  the course recipe with C Eq. 2's discriminator shown target clips as real too (C draws
+                 M^S and M^T from one set; here D's real motions are otherwise the style corpus only).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
@@ -57,6 +59,7 @@ VARIANTS = {  # course config → overrides; the joint recipes train as many ste
     "joint": lambda c: dict(pretrain_steps=0, steps=c.pretrain_steps + c.steps),
     "autoencoder": lambda c: dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=c.pretrain_steps),
     "course": lambda c: {},
+    "d_real_both": lambda c: dict(disc_real="both"),
 }
 
 

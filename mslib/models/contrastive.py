@@ -21,6 +21,10 @@ Three departures from C, all in the course preset only (the `paper` preset is C 
   two style codes with the target's own as one end; w chosen on a validation sweep
   (`tools/contrastive_findings.py strength`). w = 1 is C's transfer.
 
+C Eq. 2's real motions are the source clips M^S, as C writes; C draws M^S and M^T from one set, here
+from two corpora, so D's "real" is the style corpus. `disc_real="both"` shows D the target clips as real
+too (not in either preset; notebook 03 §4 measures what it changes).
+
 The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
 on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
 given `parameters=model.generator_parameters()`.
@@ -63,6 +67,7 @@ class ContrastiveConfig:
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
     content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
+    disc_real: str = "source"  # C Eq. 2's real motions: "source" (M^S, the style corpus) or "both" (M^S and M^T)
     crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
     d_lr: float = 1e-4         # the discriminator's own optimiser
     steps: int = 200_000
@@ -71,6 +76,10 @@ class ContrastiveConfig:
     warmup_steps: int = 0
     pretrain_steps: int = 0    # autoencoder steps (C Eq. 1 + 2 only) before E_s is frozen; 0: C's joint training
     style_strength: float = 1.0  # transfer with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)) (C Fig. 10–11's mix); 1: C's transfer
+
+    def __post_init__(self):
+        if self.disc_real not in ("source", "both"):
+            raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -308,7 +317,8 @@ class ContrastiveModel(nn.Module):
         fake = out.pop("fake")
         if self.cfg.alpha > 0:  # the discriminator's step, on detached M^G (its own optimiser)
             opt = self.d_optimizer()
-            d_loss, _ = adversarial_losses(self.discriminator(source), self.discriminator(fake.detach()))
+            real = source if self.cfg.disc_real == "source" else torch.cat([source, target])  # (B or 2B, T, D)
+            d_loss, _ = adversarial_losses(self.discriminator(real), self.discriminator(fake.detach()))
             opt.zero_grad(set_to_none=True)
             d_loss.backward()
             opt.step()
