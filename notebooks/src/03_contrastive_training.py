@@ -250,20 +250,22 @@ print(f"{'seed':>5} {'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content
 for r in seeds["rows"]:
     print(f"{r['seed']:>5} {r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} "
           f"{r['content_from_style_clip']:>26.1f}")
-for st in sorted({r["strength"] for r in seeds["rows"]}):
-    hs = np.array([r["h"] for r in seeds["rows"] if r["strength"] == st])
+h_at = {}  # style strength → {seed: H}
+for r in seeds["rows"]:
+    h_at.setdefault(r["strength"], {})[r["seed"]] = r["h"]
+for st, by_seed in sorted(h_at.items()):
+    hs = np.array(list(by_seed.values()))
     print(f"w = {st}: H over {len(hs)} seeds: mean {hs.mean():.3f}, standard deviation {hs.std(ddof=1):.3f}, "
           f"range {hs.max() - hs.min():.3f}")
-h_w1 = {r["seed"]: r["h"] for r in seeds["rows"] if r["strength"] == 1.0}
+h_w1, h_course_w = h_at[1.0], h_at[cfg.style_strength]
+seed_range_w1 = max(h_w1.values()) - min(h_w1.values())
 packaged_seed = seeds["rows"][0]["seed"]
 gaps = sorted(by.values(), reverse=True)
 print(f"packaged run (seed {packaged_seed}) the best of these seeds at w = 1:", h_w1[packaged_seed] == max(h_w1.values()),
-      "| seed range at w = 1 wider than the gap between the two best recipes above:",
-      max(h_w1.values()) - min(h_w1.values()) > gaps[0] - gaps[1])
-h_course_w = {r["seed"]: r["h"] for r in seeds["rows"] if r["strength"] == cfg.style_strength}
+      "| seed range at w = 1 wider than the gap between the two best recipes above:", seed_range_w1 > gaps[0] - gaps[1])
 print(f"w = {cfg.style_strength} above w = 1 for every seed:", all(h_course_w[k] > h_w1[k] for k in h_w1),
       "| course recipe's lead over joint and literal wider than the seed range at w = 1:",
-      all(by["course"] - by[k] > max(h_w1.values()) - min(h_w1.values()) for k in ("joint", "literal")))
+      all(by["course"] - by[k] > seed_range_w1 for k in ("joint", "literal")))
 
 # %% [markdown]
 # So the packaged checkpoint is a lucky run, the course recipe's lead over the runner-up in the recipe
