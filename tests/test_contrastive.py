@@ -91,9 +91,9 @@ def test_style_strength_mixes_the_style_codes():
     torch.nn.init.normal_(m.generator.head[-1].weight, std=0.1)  # the course G starts as zero: let the code show
     rng = np.random.default_rng(0)
     content, style, other = rng.normal(size=(40, 263)), rng.normal(size=(31, 263)), rng.normal(size=(31, 263))
-    assert m.cfg.style_strength == 0.9  # the course preset's, chosen on val
-    np.testing.assert_allclose(m.transfer_features(content, style), m.transfer_features(content, style, 0.9))
-    full = m.transfer_features(content, style, 1.0)                                        # C's transfer
+    assert m.cfg.style_strength == 1.0  # the course preset's: C's transfer
+    full = m.transfer_features(content, style, 1.0)
+    np.testing.assert_allclose(m.transfer_features(content, style), full)
     np.testing.assert_allclose(m.transfer_features(content, style, 0.0),                   # the content's own code
                                m.transfer_features(content, content, 1.0), atol=1e-5)
     assert not np.allclose(m.transfer_features(content, style, 0.5), full)
@@ -198,12 +198,35 @@ def test_paired_clips_leave_a_style_out():
     assert all(ds.style.rows[i]["style"] != "depressed" for i in ds.style_index)
     assert all(ds.content.rows[i]["style"] != "depressed" for i in ds.content_index)
     full = C.PairedClips(builtin["content"], builtin["style"], "val")
-    assert len(ds.style_index) < len(full.style_index) and len(ds) < len(full) == len(full.content)
+    assert len(ds.style_index) < len(full.style_index) and len(ds) < len(full) == len(full.content) + len(full.style)
     item = ds[0]
     assert item["target"].shape == (31, 263) and item["source"].shape == (31, 263)
     with pytest.raises(ValueError, match="exclude_styles"):
         C.PairedClips(builtin["content"], builtin["style"], "val",
                       exclude_styles=("neutral", "angry", "childlike", "depressed", "old", "proud", "sexy", "strutting"))
+
+
+def test_paired_clips_draw_from_the_union_or_across_the_corpora():
+    """pairs="union": M^T and M^S both from content ∪ style (C's X); "across": M^S always a style clip."""
+    from mslib.data.corpora import load_builtin
+    builtin = load_builtin(progress=False)
+    union = C.PairedClips(builtin["content"], builtin["style"], "val")
+    across = C.PairedClips(builtin["content"], builtin["style"], "val", pairs="across")
+    n_content, n_style = len(union.content_index), len(union.style_index)
+    assert len(union) == n_content + n_style and len(across) == n_content
+
+    def norm(ds, i):  # a style clip is exactly one window long, so its window is the whole clip
+        return ((ds.style._arrays(ds.style_index[i])[0] - ds.mean) / ds.std).astype(np.float32).tobytes()
+    style_windows = {norm(union, i) for i in range(n_style)}
+    assert union[n_content + 3]["target"].numpy().tobytes() == norm(union, 3)       # target: clip i of the union
+    np.random.seed(0)
+    from_style = [union[i]["source"].numpy().tobytes() in style_windows for i in range(60)]
+    assert 0 < sum(from_style) < 60                                                   # sources from both corpora
+    assert all(across[i]["source"].numpy().tobytes() in style_windows for i in range(20))
+    with pytest.raises(ValueError, match="pairs"):
+        C.PairedClips(builtin["content"], builtin["style"], "val", pairs="style")
+    with pytest.raises(ValueError, match="pairs"):
+        C.ContrastiveConfig.preset("course", pairs="style")
 
 
 # ---------------------------------------------------------------- the packaged checkpoint and bench
@@ -309,6 +332,17 @@ def test_statistics_mix_and_posture_shift_known_answers():
         moved = c + w * (s.mean(0) - c.mean(0))
         assert math.isclose(tool.posture_moved(moved, c, s), w, abs_tol=1e-9)
     assert math.isclose(tool.posture_moved(tool.stats_mix(c, s, 0.5, 0.5), c, s), 0.5, abs_tol=1e-9)
+
+
+def test_checkpoints_older_than_pairs_load_as_trained_across(tmp_path):
+    from dataclasses import asdict
+
+    from mslib.checkpoints import save_checkpoint
+    cfg = tiny()
+    old = {k: v for k, v in asdict(cfg).items() if k != "pairs"}
+    save_checkpoint(tmp_path / "old.pt", C.ContrastiveModel(cfg), old, C.NAME)
+    save_checkpoint(tmp_path / "new.pt", C.ContrastiveModel(cfg), asdict(cfg), C.NAME)
+    assert C.load(tmp_path / "old.pt").cfg.pairs == "across" and C.load(tmp_path / "new.pt").cfg.pairs == "union"
 
 
 def test_seed_table_refuses_other_recipes_and_repeated_seeds(tmp_path, monkeypatch):

@@ -6,20 +6,22 @@
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds
 
-`train` trains one variant of the course preset for the same steps as the packaged checkpoint:
-    literal      C §3, §4.1 as written: G sees only the two codes (`content_skip=False`), E_c without
-                 the final instance norm (`content_norm=False`), C Eq. 5 from the first step;
-    joint        the course sizes and content skip, C Eq. 5 from the first step (the course recipe
-                 before the autoencoder phase);
+`train` trains one variant of the course preset for the same steps as the packaged checkpoint. All but
+`course` draw M^T from the content corpus and M^S from the style corpus (`pairs="across"`, the
+benchmark's direction, as the course recipe did until it drew both from their union, C's one set X):
+    literal      C §3, §4.1 as written but for the pairs: G sees only the two codes (`content_skip=False`),
+                 E_c without the final instance norm (`content_norm=False`), C Eq. 5 from the first step;
+    joint        the course sizes and content skip, C Eq. 5 from the first step;
     autoencoder  the autoencoder phase alone: C Eq. 1 + 2 (β = γ = 0), no contrastive terms;
-    course       the course recipe: the autoencoder phase, then E_s frozen and all of C Eq. 5;
-    d_real_both  the course recipe with C Eq. 2's discriminator shown target clips as real too (C draws
-                 M^S and M^T from one set; here D's real motions are otherwise the style corpus only).
+    across       the two phases: the autoencoder, then E_s frozen and all of C Eq. 5;
+    d_real_both  `across` with C Eq. 2's discriminator shown target clips as real too (otherwise D's real
+                 motions, the M^S, are the style corpus only);
+    course       the course recipe: `across` with M^T and M^S both drawn from content ∪ style.
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
 (style strength w = 1). `strength` scores the packaged checkpoint on the same pairs at several w
-(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))): how the course preset's `style_strength` was chosen. `ceiling`
+(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))), w > 1 included: would another w than C's do better? `ceiling`
 scores, on the same pairs, transfers that learn nothing: the target's 263-d features with their time
 mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
@@ -27,7 +29,7 @@ transfer into its time mean (the posture) and the movement around it, swapping e
 and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
 scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
 course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
-recipe rows) and at the course style strength: how much of a difference between two recipes one
+recipe rows; also at the course style strength if that is not 1): how much of a difference between two recipes one
 training run's luck can make. With `--save` each writes its part of
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
 `python -m mslib.models.contrastive_analysis`.
@@ -54,12 +56,14 @@ from mslib.models.adain import load_adain  # noqa: E402
 from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 
+ACROSS = dict(pairs="across")  # M^T from the content corpus, M^S from the style corpus
 VARIANTS = {  # course config → overrides; the joint recipes train as many steps as the course's two phases
-    "literal": lambda c: dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=c.pretrain_steps + c.steps),
-    "joint": lambda c: dict(pretrain_steps=0, steps=c.pretrain_steps + c.steps),
-    "autoencoder": lambda c: dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=c.pretrain_steps),
+    "literal": lambda c: dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=c.pretrain_steps + c.steps, **ACROSS),
+    "joint": lambda c: dict(pretrain_steps=0, steps=c.pretrain_steps + c.steps, **ACROSS),
+    "autoencoder": lambda c: dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=c.pretrain_steps, **ACROSS),
+    "across": lambda c: ACROSS,
+    "d_real_both": lambda c: dict(disc_real="both", **ACROSS),
     "course": lambda c: {},
-    "d_real_both": lambda c: dict(disc_real="both"),
 }
 
 
@@ -79,7 +83,7 @@ def score(model, pairs, evaluator, strength=None) -> dict:
             "content_from_style_clip": 100.0 * float(leak)}
 
 
-STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.4)
 STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) of the no-learning transfers; (0, 0): identity
 
 
@@ -150,7 +154,7 @@ def main(argv=None) -> int:
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
     g.add_argument("--save", action="store_true")
     d = sub.add_parser("seeds", help="the course recipe trained with other seeds (`train course OUT --seed N`), "
-                                     "scored beside the packaged checkpoint at w = 1 and the course style strength")
+                                     "scored beside the packaged checkpoint at w = 1 (and the course style strength)")
     d.add_argument("checkpoints", nargs="+", help="checkpoints made by `train course OUT --seed N`")
     d.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
@@ -211,7 +215,7 @@ def main(argv=None) -> int:
             raise SystemExit(f"checkpoint {ck}: no such file")
         model = C.load(None if ck == "course" else ck)
         row = {"variant": label, **rounded(score(model, pairs, evaluator, 1.0)),
-               "steps": [model.cfg.pretrain_steps, model.cfg.steps]}
+               "steps": [model.cfg.pretrain_steps, model.cfg.steps], "pairs": model.cfg.pairs}
         rows.append(row)
         print(row, flush=True)
     if args.save:

@@ -2,12 +2,13 @@
 
 E_c maps a motion to a content code h×t over time, E_s to a style vector; the generator G decodes
 a content code with AdaIN parameters predicted from a style code; an MLP discriminator judges
-realism. A training pair is a target M^T (content corpus) and a source M^S (style corpus), drawn at
-random and never labelled; M^G = G(E_c(M^T) | E_s(M^S)). Losses: C Eq. 1 reconstruction, C Eq. 2
-adversarial (non-saturating form), C Eq. 3 InfoNCE with a bilinear score on content codes,
-C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
+realism. A training pair is a target M^T and a source M^S, drawn at random and never labelled, both
+from the union of the content and style corpora (C's one set X; `pairs="across"` draws M^T from the
+content corpus and M^S from the style corpus, the benchmark's direction); M^G = G(E_c(M^T) | E_s(M^S)).
+Losses: C Eq. 1 reconstruction, C Eq. 2 adversarial (non-saturating form), C Eq. 3 InfoNCE with a
+bilinear score on content codes, C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 
-Three departures from C, all in the course preset only (the `paper` preset is C as written):
+Two departures from C, both in the course preset only (the `paper` preset is C as written):
 - `content_skip=True`: G's output is added to the target's movement around its time mean, so G
   supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
   variant, `content_skip=False, content_norm=False`, scores below the course recipe on a validation
@@ -17,13 +18,13 @@ Three departures from C, all in the course preset only (the `paper` preset is C 
 - `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
   frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
   E_s can meet the triplet by moving its codes instead of G moving the style.
-- `style_strength=0.9`: a transfer decodes E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's mix of
-  two style codes with the target's own as one end; w chosen on a validation sweep
-  (`tools/contrastive_findings.py strength`). w = 1 is C's transfer.
+`style_strength` w (default 1, C's transfer) decodes E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's
+mix of two style codes with the target's own as one end (`tools/contrastive_findings.py strength`
+sweeps it on validation pairs).
 
-C Eq. 2's real motions are the source clips M^S, as C writes; C draws M^S and M^T from one set, here
-from two corpora, so D's "real" is the style corpus. `disc_real="both"` shows D the target clips as real
-too (not in either preset; notebook 03 §4 measures what it changes).
+C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
+corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
+shows D the target clips as real too (neither is in a preset; notebook 03 §4 measures both).
 
 The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
 on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
@@ -67,7 +68,9 @@ class ContrastiveConfig:
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
     content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
-    disc_real: str = "source"  # C Eq. 2's real motions: "source" (M^S, the style corpus) or "both" (M^S and M^T)
+    pairs: str = "union"       # M^T and M^S both drawn from content ∪ style corpus (C's one set X), or "across":
+                               # M^T from the content corpus, M^S from the style corpus (the benchmark's direction)
+    disc_real: str = "source"  # C Eq. 2's real motions: "source" (M^S) or "both" (M^S and M^T)
     crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
     d_lr: float = 1e-4         # the discriminator's own optimiser
     steps: int = 200_000
@@ -80,6 +83,8 @@ class ContrastiveConfig:
     def __post_init__(self):
         if self.disc_real not in ("source", "both"):
             raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
+        if self.pairs not in ("union", "across"):
+            raise ValueError(f"pairs: expected 'union' or 'across', got {self.pairs!r}")
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -88,8 +93,7 @@ class ContrastiveConfig:
             cfg = cls()
         elif name == "course":
             cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=2500, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500,
-                      style_strength=0.9)
+                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
         known = {f.name for f in fields(cls)}
@@ -370,14 +374,18 @@ class ContrastiveModel(nn.Module):
 
 # ---------------------------------------------------------------- data
 class PairedClips(Dataset):
-    """Random (target, source) pairs, unlabelled: item i = a `crop`-row window of content clip i and a
-    random style clip, both normalised with the content corpus's statistics.
+    """Random (target, source) pairs, unlabelled, both normalised with the content corpus's statistics:
+    item i = a `crop`-row window of clip i and of a random clip, drawn from the content ∪ style corpus
+    (`pairs="union"`, C's one set X), or of content clip i and a random style clip (`pairs="across"`).
 
     exclude_styles: styles to leave out of both corpora (the unseen-style experiment, C Fig. 3: every
     clip labelled with them is dropped; the labels are read only for this filter)."""
 
     def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
-                 exclude_styles=(), mean=None, std=None):
+                 exclude_styles=(), mean=None, std=None, pairs: str = "union"):
+        if pairs not in ("union", "across"):
+            raise ValueError(f"pairs: expected 'union' or 'across', got {pairs!r}")
+        self.pairs = pairs
         self.content = MotionFolder(content_folder, split, normalize=False, labels=())
         style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
         drop = set(exclude_styles)
@@ -391,7 +399,14 @@ class PairedClips(Dataset):
         self.std = self.content.std if std is None else np.asarray(std, np.float32)
 
     def __len__(self) -> int:
-        return len(self.content_index)
+        return len(self.content_index) + (len(self.style_index) if self.pairs == "union" else 0)
+
+    def _clip(self, i: int) -> np.ndarray:
+        """Features of clip i of the union: the content clips, then the style clips."""
+        n = len(self.content_index)
+        if i < n:
+            return self.content._arrays(self.content_index[i])[0]
+        return self.style._arrays(self.style_index[i - n])[0]
 
     def _window(self, f: np.ndarray) -> np.ndarray:
         if len(f) < self.crop:  # edge-pad short clips
@@ -400,8 +415,12 @@ class PairedClips(Dataset):
         return f[s:s + self.crop]
 
     def __getitem__(self, i: int) -> dict:
-        tgt = self._window(self.content._arrays(self.content_index[i])[0])
-        src = self._window(self.style._arrays(self.style_index[np.random.randint(len(self.style_index))])[0])
+        if self.pairs == "union":  # M^T, M^S ~ X
+            tgt = self._window(self._clip(i))
+            src = self._window(self._clip(np.random.randint(len(self))))
+        else:
+            tgt = self._window(self._clip(i))
+            src = self._window(self.style._arrays(self.style_index[np.random.randint(len(self.style_index))])[0])
         norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
         return {"target": norm(tgt), "source": norm(src)}
 
@@ -411,9 +430,9 @@ def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, devic
           progress: bool = True, exclude_styles=(), val: bool = True):
     """Build the model and data, run the one loop; returns (model, history)."""
     torch.manual_seed(seed)
-    data = PairedClips(content, style, "train", cfg.crop, exclude_styles)
+    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs)
     model = ContrastiveModel(cfg, data.mean, data.std)
-    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles) if val else None
+    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs) if val else None
     # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
     tcfg = pretrain_then_freeze(model, data, cfg.train_config(seed), cfg.pretrain_steps, [model.style_encoder],
                                 resume=resume, val_set=val_set, model_name=f"{NAME} (autoencoder)", device=device,
@@ -428,7 +447,8 @@ def load(path=None, device="cpu") -> ContrastiveModel:
     from ..checkpoints import read_checkpoint
     path = course_path(NAME) if path is None else path
     blob = read_checkpoint(path, NAME)
-    model = ContrastiveModel(ContrastiveConfig(**blob["config"]))
+    config = {"pairs": "across", **blob["config"]}  # checkpoints older than `pairs` were trained across the corpora
+    model = ContrastiveModel(ContrastiveConfig(**config))
     load_state(path, model, NAME)
     return model.to(device).eval()
 
