@@ -29,8 +29,8 @@ transfer into its time mean (the posture) and the movement around it, swapping e
 and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
 scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
 course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
-recipe rows; also at the course style strength if that is not 1): how much of a difference between two recipes one
-training run's luck can make. With `--save` each writes its part of
+recipe rows; also at the course style strength if that is not 1): how much of a difference between two
+recipes one training run's luck can make. With `--save` each writes its part of
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
 `python -m mslib.models.contrastive_analysis`.
 """

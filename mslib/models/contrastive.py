@@ -50,6 +50,13 @@ from .layers import ResBlock1d, adain
 NAME = "contrastive"
 
 
+def check_pairs(pairs: str) -> str:
+    """`pairs` itself, if it names a way to draw training pairs ("union" or "across")."""
+    if pairs not in ("union", "across"):
+        raise ValueError(f"pairs: expected 'union' or 'across', got {pairs!r}")
+    return pairs
+
+
 @dataclass
 class ContrastiveConfig:
     """Sizes, loss weights and optimisation of paper C; `paper` and `course` presets."""
@@ -83,8 +90,7 @@ class ContrastiveConfig:
     def __post_init__(self):
         if self.disc_real not in ("source", "both"):
             raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
-        if self.pairs not in ("union", "across"):
-            raise ValueError(f"pairs: expected 'union' or 'across', got {self.pairs!r}")
+        check_pairs(self.pairs)
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -383,9 +389,7 @@ class PairedClips(Dataset):
 
     def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
                  exclude_styles=(), mean=None, std=None, pairs: str = "union"):
-        if pairs not in ("union", "across"):
-            raise ValueError(f"pairs: expected 'union' or 'across', got {pairs!r}")
-        self.pairs = pairs
+        self.pairs = check_pairs(pairs)
         self.content = MotionFolder(content_folder, split, normalize=False, labels=())
         style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
         drop = set(exclude_styles)
@@ -402,7 +406,7 @@ class PairedClips(Dataset):
         return len(self.content_index) + (len(self.style_index) if self.pairs == "union" else 0)
 
     def _clip(self, i: int) -> np.ndarray:
-        """Features of clip i of the union: the content clips, then the style clips."""
+        """Features of clip i of content + style clips: the content clips first, then the style clips."""
         n = len(self.content_index)
         if i < n:
             return self.content._arrays(self.content_index[i])[0]
@@ -415,12 +419,12 @@ class PairedClips(Dataset):
         return f[s:s + self.crop]
 
     def __getitem__(self, i: int) -> dict:
+        tgt = self._window(self._clip(i))
         if self.pairs == "union":  # M^T, M^S ~ X
-            tgt = self._window(self._clip(i))
-            src = self._window(self._clip(np.random.randint(len(self))))
-        else:
-            tgt = self._window(self._clip(i))
-            src = self._window(self.style._arrays(self.style_index[np.random.randint(len(self.style_index))])[0])
+            j = np.random.randint(len(self))
+        else:  # a style clip: they follow the content clips in `_clip`'s numbering
+            j = len(self.content_index) + np.random.randint(len(self.style_index))
+        src = self._window(self._clip(j))
         norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
         return {"target": norm(tgt), "source": norm(src)}
 
