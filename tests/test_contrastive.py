@@ -366,3 +366,22 @@ def test_seed_table_refuses_other_recipes_and_repeated_seeds(tmp_path, monkeypat
     with pytest.raises(SystemExit, match="no such file"):
         tool.main(["seeds", str(tmp_path / "missing.pt")])
     assert scored == []
+
+
+def test_recipe_variants_keep_the_schedule_they_were_compared_at():
+    """The recipe rows reproduce whatever the course preset's steps: every variant but `course` pins the short schedule."""
+    from dataclasses import replace
+
+    tool = _findings_tool()
+    course = C.ContrastiveConfig.preset("course")
+    cfg = {k: C.ContrastiveConfig.preset("course", **v) for k, v in tool.VARIANTS.items()}
+    two_phases = (tool.SHORT["pretrain_steps"], tool.SHORT["steps"])
+    for name in ("across", "d_real_both", "union_short"):
+        assert (cfg[name].pretrain_steps, cfg[name].steps) == two_phases
+    for name in ("joint", "literal"):  # C's joint training: as many steps as the two phases together
+        assert (cfg[name].pretrain_steps, cfg[name].steps) == (0, sum(two_phases))
+    assert (cfg["autoencoder"].pretrain_steps, cfg["autoencoder"].steps) == (0, tool.SHORT["pretrain_steps"])
+    assert cfg["course"] == course
+    # union_short is the course recipe but for the length of its second phase
+    assert replace(cfg["union_short"], steps=course.steps) == course and course.steps > cfg["union_short"].steps
+    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short")} == {"across"}

@@ -6,9 +6,11 @@
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds
 
-`train` trains one variant of the course preset for the same steps as the packaged checkpoint. All but
-`course` draw M^T from the content corpus and M^S from the style corpus (`pairs="across"`, the
-benchmark's direction, as the course recipe did until it drew both from their union, C's one set X):
+`train` trains one variant of the course preset. The recipes were compared at the course's earlier, shorter
+schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
+joint recipes train as many steps as those two phases together. All but `course` and `union_short` draw M^T
+from the content corpus and M^S from the style corpus (`pairs="across"`, the benchmark's direction, as the
+course recipe did until it drew both from their union, C's one set X):
     literal      C §3, §4.1 as written but for the pairs: G sees only the two codes (`content_skip=False`),
                  E_c without the final instance norm (`content_norm=False`), C Eq. 5 from the first step;
     joint        the course sizes and content skip, C Eq. 5 from the first step;
@@ -16,7 +18,8 @@ benchmark's direction, as the course recipe did until it drew both from their un
     across       the two phases: the autoencoder, then E_s frozen and all of C Eq. 5;
     d_real_both  `across` with C Eq. 2's discriminator shown target clips as real too (otherwise D's real
                  motions, the M^S, are the style corpus only);
-    course       the course recipe: `across` with M^T and M^S both drawn from content ∪ style.
+    union_short  `across` with M^T and M^S both drawn from content ∪ style;
+    course       the course recipe: `union_short` with the second phase twice as long (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
@@ -57,13 +60,16 @@ from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 
 ACROSS = dict(pairs="across")  # M^T from the content corpus, M^S from the style corpus
-VARIANTS = {  # course config → overrides; the joint recipes train as many steps as the course's two phases
-    "literal": lambda c: dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=c.pretrain_steps + c.steps, **ACROSS),
-    "joint": lambda c: dict(pretrain_steps=0, steps=c.pretrain_steps + c.steps, **ACROSS),
-    "autoencoder": lambda c: dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=c.pretrain_steps, **ACROSS),
-    "across": lambda c: ACROSS,
-    "d_real_both": lambda c: dict(disc_real="both", **ACROSS),
-    "course": lambda c: {},
+SHORT = dict(pretrain_steps=2500, steps=2500)  # the schedule the recipes were compared at (autoencoder + C Eq. 5)
+JOINT_STEPS = SHORT["pretrain_steps"] + SHORT["steps"]  # C's joint training: as many steps as the two phases
+VARIANTS = {  # overrides of the course preset
+    "literal": dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=JOINT_STEPS, **ACROSS),
+    "joint": dict(pretrain_steps=0, steps=JOINT_STEPS, **ACROSS),
+    "autoencoder": dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=SHORT["pretrain_steps"], **ACROSS),
+    "across": dict(**SHORT, **ACROSS),
+    "d_real_both": dict(disc_real="both", **SHORT, **ACROSS),
+    "union_short": dict(**SHORT),
+    "course": {},
 }
 
 
@@ -163,8 +169,7 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     paths = load_builtin(progress=False)
     if args.cmd == "train":
-        course = C.ContrastiveConfig.preset("course")
-        cfg = C.ContrastiveConfig.preset("course", **VARIANTS[args.variant](course))
+        cfg = C.ContrastiveConfig.preset("course", **VARIANTS[args.variant])
         C.train(cfg, paths["content"], paths["style"], seed=args.seed, out=args.out)
         print(args.out)
         return 0
