@@ -381,7 +381,8 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     for name in ("joint", "literal"):  # C's joint training: as many steps as the two phases together
         assert (cfg[name].pretrain_steps, cfg[name].steps) == (0, sum(two_phases))
     assert (cfg["autoencoder"].pretrain_steps, cfg["autoencoder"].steps) == (0, tool.SHORT["pretrain_steps"])
+    assert (cfg["union_mid"].pretrain_steps, cfg["union_mid"].steps) == (tool.SHORT["pretrain_steps"], 2 * tool.SHORT["steps"])
     assert cfg["course"] == course
-    # union_short is the course recipe but for the length of its second phase
-    assert replace(cfg["union_short"], steps=course.steps) == course and course.steps > cfg["union_short"].steps
-    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short")} == {"across"}
+    for name in ("union_short", "union_mid"):  # the course recipe but for a shorter second phase
+        assert replace(cfg[name], steps=course.steps) == course and course.steps > cfg[name].steps
+    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short", "union_mid")} == {"across"}

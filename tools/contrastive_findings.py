@@ -19,7 +19,8 @@ course recipe did until it drew both from their union, C's one set X):
     d_real_both  `across` with C Eq. 2's discriminator shown target clips as real too (otherwise D's real
                  motions, the M^S, are the style corpus only);
     union_short  `across` with M^T and M^S both drawn from content ∪ style;
-    course       the course recipe: `union_short` with the second phase twice as long (the preset's steps).
+    union_mid    `union_short` with the second phase twice as long;
+    course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
@@ -69,6 +70,7 @@ VARIANTS = {  # overrides of the course preset
     "across": dict(**SHORT, **ACROSS),
     "d_real_both": dict(disc_real="both", **SHORT, **ACROSS),
     "union_short": dict(**SHORT),
+    "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"]),
     "course": {},
 }
 

@@ -98,7 +98,7 @@ class ContrastiveConfig:
         if name == "paper":
             cfg = cls()
         elif name == "course":
-            cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=5000, batch_size=32, lr=1e-3,
+            cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=10000, batch_size=32, lr=1e-3,
                       d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
