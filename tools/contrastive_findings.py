@@ -8,7 +8,7 @@
 
 `train` trains one variant of the course preset. The recipes were compared at the course's earlier, shorter
 schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
-joint recipes train as many steps as those two phases together. All but `course` and `union_short` draw M^T
+joint recipes train as many steps as those two phases together. All but `course` and the `union_…` recipes draw M^T
 from the content corpus and M^S from the style corpus (`pairs="across"`, the benchmark's direction, as the
 course recipe did until it drew both from their union, C's one set X):
     literal      C §3, §4.1 as written but for the pairs: G sees only the two codes (`content_skip=False`),
