@@ -206,6 +206,7 @@ for r in recipes["rows"]:
     print(f"{r['variant']:>14} {r['pairs']:>7} {str(r['steps'][0]) + ' + ' + str(r['steps'][1]):>19} {r['h']:>6.3f} "
           f"{r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} {r['content_from_style_clip']:>26.1f}")
 rec = {r["variant"]: r for r in recipes["rows"]}
+BAR_H = 0.60  # this method's bar, set on the benchmark's default (test) draw
 SEED_RUNS = {f"{name}_s{n}": name for name in ("across", "union_short", "union_mid") for n in (1, 2)}  # retrained with seeds 1, 2
 by = {k: r["h"] for k, r in rec.items() if k not in SEED_RUNS}  # one run per recipe (seed 0)
 runs = lambda name: np.array([by[name]] + [rec[k]["h"] for k, v in SEED_RUNS.items() if v == name])  # noqa: E731
@@ -213,7 +214,7 @@ across_seeds, short_seeds, mid_seeds = runs("across"), runs("union_short"), runs
 print("course recipe above the others:", all(by["course"] > h for k, h in by.items() if k != "course"),
       "| autoencoder alone above joint training:", by["autoencoder"] > by["joint"],
       "| literal above joint training:", by["literal"] > by["joint"],
-      "| any recipe at H ≥ 0.60:", any(h >= 0.60 for h in by.values()))
+      f"| any recipe at H ≥ {BAR_H:.2f}:", any(h >= BAR_H for h in by.values()))
 print("highest FMD (furthest from real motion):", max(recipes["rows"], key=lambda r: r["fmd"])["variant"])
 print("D shown target clips as real, against `across`: CRA higher:", rec["d_real_both"]["cra"] > rec["across"]["cra"],
       "| SRA lower:", rec["d_real_both"]["sra"] < rec["across"]["sra"])
@@ -297,7 +298,7 @@ print("`across`'s lead over joint and literal wider than its seed range:",
 fig, ax = plt.subplots(figsize=(5, 3))
 for seed in range(len(course_seeds)):
     ax.plot(lengths, [by_length[n][seed] for n in lengths], "o-", label=f"seed {seed}")
-ax.axhline(0.60, color="gray", ls="--", lw=1, label="the bar (on the test draw)")
+ax.axhline(BAR_H, color="gray", ls="--", lw=1, label="the bar (on the test draw)")
 ax.set(xscale="log", xticks=lengths, xticklabels=lengths, xlabel="steps of the second phase (E_s frozen)",
        ylabel="H on val pairs", title="course recipe, longer second phase")
 ax.minorticks_off()
@@ -510,8 +511,8 @@ evaluator = Evaluator()
 rows = [run_bench(m, seed=0, n_pairs=200, pairs=pairs, evaluator=evaluator) for m in ("identity", "copy_style", "contrastive")]
 print(format_table(rows, notebook=True))
 h = {r["method"]: r["h"] for r in rows}
-print("bar met (H ≥ 0.60 and above both references):",
-      bool(h["contrastive"] >= 0.60 and h["contrastive"] > max(h["identity"], h["copy_style"])))
+print(f"bar met (H ≥ {BAR_H:.2f} and above both references):",
+      bool(h["contrastive"] >= BAR_H and h["contrastive"] > max(h["identity"], h["copy_style"])))
 
 # %% [markdown]
 # Where does the content go? For each transfer, ask the content classifier what it sees, and count how
