@@ -85,6 +85,28 @@ def test_shapes_and_keep_root():
         C.ContrastiveConfig.preset("course", widht=3)
 
 
+def test_skip_adain_gives_the_movement_a_scale_from_the_style_code():
+    """`skip_adain`: the skip is A Eq. 2 on the content's movement, σ from the style code, so the content's own scale is gone."""
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny(skip_adain=True, skip_eps=1e-6)).eval()
+    x = torch.randn(2, 31, 263)
+    code = m.encode_style(x)
+    generate = lambda c: m.generate(m.encode_content(c), code, 31, c)  # noqa: E731
+    out = generate(x)  # G's head and the σ layer start at zero: σ̂ = 1, the movement instance-normalised
+    torch.testing.assert_close(out.mean(1), torch.zeros(2, 263), atol=1e-5, rtol=0)
+    torch.testing.assert_close(out.std(1, unbiased=False), torch.ones(2, 263), atol=1e-4, rtol=0)
+    torch.nn.init.normal_(m.generator.skip_log_sigma.weight, std=0.3)  # a σ that depends on the style code
+    sigma = m.generator.skip_sigma(code)  # (B, 1, D)
+    assert sigma.shape == (2, 1, 263) and not torch.allclose(sigma, torch.ones_like(sigma))
+    torch.testing.assert_close(generate(x).std(1, unbiased=False), sigma[:, 0], atol=1e-4, rtol=1e-4)
+    scaled = x.mean(1, keepdim=True) + 3.0 * (x - x.mean(1, keepdim=True))  # the content moving 3× as much, same content code
+    torch.testing.assert_close(m.generate(m.encode_content(x), code, 31, scaled), generate(x), atol=1e-4, rtol=1e-4)
+    floor = C.ContrastiveModel(tiny(skip_adain=True)).eval()  # the default variance floor keeps a still dim still
+    still = torch.randn(1, 31, 263) * 1e-3
+    assert floor.generate(floor.encode_content(still), floor.encode_style(still), 31, still).abs().max() < 0.05
+    assert C.ContrastiveConfig.preset("paper").skip_adain is False
+
+
 def test_style_strength_mixes_the_style_codes():
     torch.manual_seed(0)
     m = C.ContrastiveModel(tiny()).eval()
@@ -376,7 +398,7 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     course = C.ContrastiveConfig.preset("course")
     cfg = {k: C.ContrastiveConfig.preset("course", **v) for k, v in tool.VARIANTS.items()}
     two_phases = (tool.SHORT["pretrain_steps"], tool.SHORT["steps"])
-    for name in ("across", "d_real_both", "union_short"):
+    for name in ("across", "d_real_both", "union_short", "skip_adain"):
         assert (cfg[name].pretrain_steps, cfg[name].steps) == two_phases
     for name in ("joint", "literal"):  # C's joint training: as many steps as the two phases together
         assert (cfg[name].pretrain_steps, cfg[name].steps) == (0, sum(two_phases))
@@ -385,4 +407,13 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     assert cfg["course"] == course
     for name in ("union_short", "union_mid"):  # the course recipe but for a shorter second phase
         assert replace(cfg[name], steps=course.steps) == course and course.steps > cfg[name].steps
-    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short", "union_mid")} == {"across"}
+    assert replace(cfg["skip_adain"], skip_adain=False) == cfg["union_short"] and not course.skip_adain
+    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short", "union_mid", "skip_adain")} == {"across"}
+
+
+def test_recipe_rows_merge_by_label_and_keep_their_commands():
+    tool = _findings_tool()
+    saved = {"command": "old", "rows": [{"variant": "a", "h": 1}, {"variant": "course", "h": 2}]}
+    rows = tool.merge_rows(saved, [{"variant": "course", "h": 3}, {"variant": "b", "h": 4}], "new")
+    assert [(r["variant"], r["h"], r["command"]) for r in rows] == [("a", 1, "old"), ("b", 4, "new"), ("course", 3, "new")]
+    assert tool.merge_rows({}, [{"variant": "a", "h": 1}], "new") == [{"variant": "a", "h": 1, "command": "new"}]

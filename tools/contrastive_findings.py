@@ -20,6 +20,9 @@ course recipe did until it drew both from their union, C's one set X):
                  motions, the M^S, are the style corpus only);
     union_short  `across` with M^T and M^S both drawn from content ∪ style;
     union_mid    `union_short` with the second phase twice as long;
+    skip_adain   `union_short` with the skip's movement instance-normalised and rescaled by a σ per dimension
+                 that G predicts from the style code (A Eq. 2 on the skip): the style code must carry how much
+                 each dimension moves, so the frozen E_s judges the movement too, not only the posture;
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
@@ -35,7 +38,8 @@ scored and measured the same way, for comparison. `seeds` scores the packaged ch
 course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
 recipe rows; also at the course style strength if that is not 1): how much of a difference between two
 recipes one training run's luck can make. With `--save` each writes its part of
-notebooks/data/03_contrastive_recipes.json, which notebook 03 reads. The findings (a)–(d) themselves:
+notebooks/data/03_contrastive_recipes.json, which notebook 03 reads; `val --save` replaces the rows of the
+labels it scores (keeping the others, each row with the command that scored it). The findings (a)–(d) themselves:
 `python -m mslib.models.contrastive_analysis`.
 """
 from __future__ import annotations
@@ -71,8 +75,24 @@ VARIANTS = {  # overrides of the course preset
     "d_real_both": dict(disc_real="both", **SHORT, **ACROSS),
     "union_short": dict(**SHORT),
     "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"]),
+    "skip_adain": dict(skip_adain=True, **SHORT),
     "course": {},
 }
+
+
+def merge_rows(saved: dict, rows: list, command: str) -> list:
+    """The saved recipe rows with `rows` (scored by `command`) in place of the rows of the same labels; new
+    labels go before the `course` row. Saved rows without their own command get the file's old one."""
+    merged = [{**r, "command": r.get("command", saved.get("command"))} for r in saved.get("rows", [])]
+    at = {r["variant"]: i for i, r in enumerate(merged)}
+    for row in rows:
+        row = {**row, "command": command}
+        if row["variant"] in at:
+            merged[at[row["variant"]]] = row
+        else:
+            merged.insert(at.get("course", len(merged)), row)
+            at = {r["variant"]: i for i, r in enumerate(merged)}
+    return merged
 
 
 def rounded(row: dict) -> dict:
@@ -142,10 +162,11 @@ def _command(argv) -> str:
 
 
 def _save(part: dict) -> None:
-    """Merge `part` into the JSON notebook 03 reads (sections not re-run are kept)."""
+    """Merge `part` into the JSON notebook 03 reads (sections not re-run are kept; a None drops its key)."""
     latest = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
     RECIPES_JSON.parent.mkdir(parents=True, exist_ok=True)
-    RECIPES_JSON.write_text(json.dumps({**latest, **part}, indent=1) + "\n")
+    merged = {k: v for k, v in {**latest, **part}.items() if v is not None}
+    RECIPES_JSON.write_text(json.dumps(merged, indent=1) + "\n")
     print(RECIPES_JSON)
 
 
@@ -226,7 +247,10 @@ def main(argv=None) -> int:
         rows.append(row)
         print(row, flush=True)
     if args.save:
-        _save({"command": _command(argv), "val_pairs": len(pairs), "rows": rows})
+        saved = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
+        if saved.get("val_pairs", len(pairs)) != len(pairs):
+            raise SystemExit(f"{RECIPES_JSON}: rows scored on {saved['val_pairs']} pairs, these on {len(pairs)}")
+        _save({"command": None, "val_pairs": len(pairs), "rows": merge_rows(saved, rows, _command(argv))})
     return 0
 
 

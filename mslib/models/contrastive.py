@@ -22,6 +22,10 @@ Two departures from C, both in the course preset only (the `paper` preset is C a
 mix of two style codes with the target's own as one end (`tools/contrastive_findings.py strength`
 sweeps it on validation pairs).
 
+`skip_adain=True` (in neither preset) instance-normalises the skipped movement and rescales it by a σ per
+dimension that G predicts from the style code (A Eq. 2 on the skip), so the style code must carry the
+movement's scale; on validation pairs it carries the style clip's content with it (notebook 03 §4).
+
 C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
 corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
 shows D the target clips as real too (neither is in a preset; notebook 03 §4 measures both).
@@ -74,6 +78,8 @@ class ContrastiveConfig:
     margin: float = 1.0        # C Eq. 4: λ
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
+    skip_adain: bool = False   # … that movement instance-normalised and rescaled by a σ G predicts from the style code
+    skip_eps: float = 1e-2     # the variance floor of that normalisation (normalised units: σ ≥ 0.1)
     content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
     pairs: str = "union"       # M^T and M^S both drawn from content ∪ style corpus (C's one set X), or "across":
                                # M^T from the content corpus, M^S from the style corpus (the benchmark's direction)
@@ -179,6 +185,14 @@ class Generator(nn.Module):
         if cfg.content_skip:  # start as the identity on the content's movement (zero-initialised output layer)
             nn.init.zeros_(self.head[-1].weight)
             nn.init.zeros_(self.head[-1].bias)
+        self.skip_log_sigma = nn.Linear(h, cfg.feature_dim) if cfg.skip_adain else None
+        if self.skip_log_sigma is not None:  # start at σ = 1 for every dim
+            nn.init.zeros_(self.skip_log_sigma.weight)
+            nn.init.zeros_(self.skip_log_sigma.bias)
+
+    def skip_sigma(self, style: torch.Tensor) -> torch.Tensor:
+        """σ per feature dim for the content skip's movement (`skip_adain`): (B, l) → (B, 1, D)."""
+        return self.skip_log_sigma(self.style_mlp(style)).clamp(-5.0, 3.0).exp()[:, None]
 
     def forward(self, content: torch.Tensor, style: torch.Tensor, length: int) -> torch.Tensor:
         s = self.style_mlp(style)  # (B, h)
@@ -292,12 +306,16 @@ class ContrastiveModel(nn.Module):
     def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int,
                  content: torch.Tensor | None = None) -> torch.Tensor:
         """G(E_c(·) | E_s(·)) → normalised (B, length, D); with `content_skip`, plus the content
-        motion's own movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D))."""
+        motion's own movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D)),
+        with `skip_adain` as AdaIN gives it: σ̂(style code)·(x − μ_t(x))/σ_t(x)."""
         out = self.generator(content_code, style_code, length)
         if self.cfg.content_skip:
             if content is None:
                 raise ValueError("content: needed by a model with content_skip=True")
-            out = out + content - content.mean(1, keepdim=True)
+            if self.cfg.skip_adain:  # A Eq. 2 on the skip, σ from the style code, μ from G's output
+                out = out + adain(content, 0.0, self.generator.skip_sigma(style_code), eps=self.cfg.skip_eps)
+            else:
+                out = out + content - content.mean(1, keepdim=True)
         return out
 
     def _check(self, x, name):

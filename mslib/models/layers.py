@@ -25,12 +25,13 @@ def channel_stats(x: torch.Tensor, mask: torch.Tensor | None = None, eps: float 
 
 
 def adain(content: torch.Tensor, style_mu: torch.Tensor, style_sigma: torch.Tensor,
-          mask: torch.Tensor | None = None, use_mean: bool = True, use_std: bool = True) -> torch.Tensor:
+          mask: torch.Tensor | None = None, use_mean: bool = True, use_std: bool = True,
+          eps: float = EPS) -> torch.Tensor:
     """A Eq. 2: AdaIN(c, s) = σ(s)·(c − μ(c))/σ(c) + μ(s), over time per channel; (B, T, C).
 
     `use_mean=False` keeps the content's own mean (variance-only transfer), `use_std=False` its own
-    σ (mean-only transfer) — the switches behind A Fig. 2."""
-    mu_c, sigma_c = channel_stats(content, mask)
+    σ (mean-only transfer) — the switches behind A Fig. 2. `eps` floors the content's variance."""
+    mu_c, sigma_c = channel_stats(content, mask, eps)
     scale = style_sigma if use_std else sigma_c
     shift = style_mu if use_mean else mu_c
     return scale * (content - mu_c) / sigma_c + shift
