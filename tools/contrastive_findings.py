@@ -4,7 +4,7 @@
     .venv/bin/python tools/contrastive_findings.py val course OUT.pt       # H, CRA, SRA on a val draw
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
-    .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds
+    .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds (COURSE_RUN)
 
 `train` trains one variant of the course preset. The recipes were compared at the course's earlier, shorter
 schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
@@ -35,7 +35,7 @@ mean moved a fraction w_μ toward the style clip's and their movement scaled per
 transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
 and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
 scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
-course recipe retrained with other seeds (`train course OUT --seed N`), at C's transfer (w = 1, as the
+course recipe trained with the other seeds (`COURSE_RUN --seed N --out OUT`), at C's transfer (w = 1, as the
 recipe rows; also at the course style strength if that is not 1): how much of a difference between two
 recipes one training run's luck can make. With `--save` each writes its part of
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads; `val --save` replaces the rows of the
@@ -78,6 +78,10 @@ VARIANTS = {  # overrides of the course preset
     "skip_adain": dict(skip_adain=True, **SHORT),
     "course": {},
 }
+
+
+# How the course runs were trained (single-threaded: two at a time on a 2-core machine).
+COURSE_RUN = "OMP_NUM_THREADS=1 python -m mslib train contrastive --preset course"
 
 
 def merge_rows(saved: dict, rows: list, command: str) -> list:
@@ -182,9 +186,9 @@ def main(argv=None) -> int:
     w.add_argument("--save", action="store_true")
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
     g.add_argument("--save", action="store_true")
-    d = sub.add_parser("seeds", help="the course recipe trained with other seeds (`train course OUT --seed N`), "
+    d = sub.add_parser("seeds", help=f"the course recipe trained with other seeds ({COURSE_RUN} --seed N --out OUT), "
                                      "scored beside the packaged checkpoint at w = 1 (and the course style strength)")
-    d.add_argument("checkpoints", nargs="+", help="checkpoints made by `train course OUT --seed N`")
+    d.add_argument("checkpoints", nargs="+", help=f"checkpoints made by {COURSE_RUN} --seed N --out OUT")
     d.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
@@ -216,7 +220,7 @@ def main(argv=None) -> int:
                 raise SystemExit(f"checkpoint {ck}: seed {seed} twice")
             models[seed] = model
             if ck is not None:
-                trained.append(f"python tools/contrastive_findings.py train course {Path(ck).name} --seed {seed}")
+                trained.append(f"{COURSE_RUN} --seed {seed} --out {Path(ck).name}")
         rows = []
         for seed, model in models.items():
             for st in sorted({1.0, model.cfg.style_strength}):  # C's transfer (the recipe table's w) and the course w
