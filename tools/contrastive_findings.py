@@ -22,7 +22,7 @@ course recipe did until it drew both from their union, C's one set X):
     union_mid    `union_short` with the second phase twice as long;
     skip_adain   `union_short` with the skip's movement instance-normalised and rescaled by a σ per dimension
                  that G predicts from the style code (A Eq. 2 on the skip): the style code must carry how much
-                 each dimension moves, so the frozen E_s judges the movement too, not only the posture;
+                 each dimension moves, so the frozen E_s would judge the movement too, not only the posture;
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
