@@ -17,9 +17,10 @@ $(STAMP): requirements.txt pyproject.toml
 	$(BIN)/python -m pip install --quiet --no-deps -e .
 	@touch $(STAMP)
 
-# (--allow-root only where you are root, e.g. in a container)
+# (--allow-root only where you are root, e.g. in a container; mslib.cpu_paths: the numeric code path
+# the stored outputs were written with, so an AVX-512 laptop prints what they show)
 lab: $(STAMP)
-	$(BIN)/jupyter lab notebooks/ $(if $(filter 0,$(shell id -u)),--allow-root)
+	$(BIN)/python -m mslib.cpu_paths $(BIN)/jupyter lab notebooks/ $(if $(filter 0,$(shell id -u)),--allow-root)
 
 # Unit tests and strict nbval over every notebook, one pytest run (DESIGN.md §5).
 test: $(STAMP)

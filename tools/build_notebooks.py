@@ -4,7 +4,8 @@
 
 Cells are separated by `# %%` (code) and `# %% [markdown]` (markdown, lines starting '# ').
 Each notebook runs top to bottom in a fresh kernel with notebooks/ as the working folder and is
-saved with its outputs, which nbval then compares (DESIGN.md §5).
+saved with its outputs, which nbval then compares (DESIGN.md §5). The kernels start with the numeric
+code path the tests use (`mslib.cpu_paths`), so a machine with AVX-512 writes what one with AVX2 checks.
 """
 from __future__ import annotations
 
@@ -17,6 +18,10 @@ from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC, OUT = ROOT / "notebooks" / "src", ROOT / "notebooks"
+sys.path.insert(0, str(ROOT))
+from mslib.cpu_paths import pin_cpu_code_paths  # noqa: E402
+
+pin_cpu_code_paths()  # inherited by every kernel this script starts
 
 
 def parse_percent(text: str):
