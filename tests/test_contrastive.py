@@ -107,6 +107,38 @@ def test_skip_adain_gives_the_movement_a_scale_from_the_style_code():
     assert C.ContrastiveConfig.preset("paper").skip_adain is False
 
 
+def test_skip_gain_scales_the_movement_by_the_style_codes_difference():
+    """`skip_gain`: the skip times exp(A·(s − s_x)), 1 when the codes agree; made without drawing random numbers."""
+    torch.manual_seed(0)
+    base = C.ContrastiveModel(tiny())
+    after_base = torch.rand(3)
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny(skip_gain=True)).eval()
+    torch.testing.assert_close(torch.rand(3), after_base)  # the same random stream as without the gain
+    state = m.state_dict()
+    assert torch.count_nonzero(state.pop("movement_gain.weight")) == 0
+    assert all(torch.equal(v, base.state_dict()[k]) for k, v in state.items()) and state.keys() == base.state_dict().keys()
+    x, y = torch.randn(2, 31, 263), torch.randn(2, 31, 263)
+    c, s_x, s_y = m.encode_content(x), m.encode_style(x), m.encode_style(y)
+    torch.testing.assert_close(m.generate(c, s_y, 31, x), base.eval().generate(c, s_y, 31, x))  # A = 0: gain 1
+    torch.nn.init.normal_(m.movement_gain.weight, std=0.1)
+    g_out = m.generator(c, s_y, 31)  # (B, T, D), G's own part
+    move = x - x.mean(1, keepdim=True)
+    gain = torch.exp((s_y - s_x) @ m.movement_gain.weight.T)[:, None]  # (B, 1, D)
+    assert not torch.allclose(gain, torch.ones_like(gain))
+    torch.testing.assert_close(m.generate(c, s_y, 31, x), g_out + gain * move, atol=1e-5, rtol=1e-5)
+    torch.testing.assert_close(m.generate(c, s_y, 31, x, s_x), m.generate(c, s_y, 31, x))  # default s_x = E_s(x)
+    m.train()
+    rec = C.reconstruction_loss(m.generate(c, s_x, 31, x, s_x), x)  # own code: reconstruction gives A no gradient
+    rec.backward()
+    assert torch.count_nonzero(m.movement_gain.weight.grad) == 0
+    with pytest.raises(ValueError, match="content_skip"):
+        C.ContrastiveConfig.preset("course", skip_gain=True, content_skip=False)
+    with pytest.raises(ValueError, match="choose one"):
+        C.ContrastiveConfig.preset("course", skip_gain=True, skip_adain=True)
+    assert not C.ContrastiveConfig.preset("course").skip_gain and not C.ContrastiveConfig.preset("paper").skip_gain
+
+
 def test_style_strength_mixes_the_style_codes():
     torch.manual_seed(0)
     m = C.ContrastiveModel(tiny()).eval()
@@ -398,7 +430,7 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     course = C.ContrastiveConfig.preset("course")
     cfg = {k: C.ContrastiveConfig.preset("course", **v) for k, v in tool.VARIANTS.items()}
     two_phases = (tool.SHORT["pretrain_steps"], tool.SHORT["steps"])
-    for name in ("across", "d_real_both", "union_short", "skip_adain"):
+    for name in ("across", "d_real_both", "union_short", "skip_adain", "skip_gain"):
         assert (cfg[name].pretrain_steps, cfg[name].steps) == two_phases
     for name in ("joint", "literal"):  # C's joint training: as many steps as the two phases together
         assert (cfg[name].pretrain_steps, cfg[name].steps) == (0, sum(two_phases))
@@ -408,7 +440,10 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     for name in ("union_short", "union_mid"):  # the course recipe but for a shorter second phase
         assert replace(cfg[name], steps=course.steps) == course and course.steps > cfg[name].steps
     assert replace(cfg["skip_adain"], skip_adain=False) == cfg["union_short"] and not course.skip_adain
-    assert {c.pairs for k, c in cfg.items() if k not in ("course", "union_short", "union_mid", "skip_adain")} == {"across"}
+    assert replace(cfg["skip_gain"], skip_gain=False) == cfg["union_short"] and not course.skip_gain
+    assert replace(cfg["course_gain"], skip_gain=False) == course
+    union = ("course", "union_short", "union_mid", "skip_adain", "skip_gain", "course_gain")
+    assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
 
 
 def test_recipe_rows_merge_by_label_and_keep_their_commands():

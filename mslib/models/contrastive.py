@@ -80,6 +80,7 @@ class ContrastiveConfig:
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
     skip_adain: bool = False   # … that movement instance-normalised and rescaled by a σ G predicts from the style code
     skip_eps: float = 1e-2     # the variance floor of that normalisation (normalised units: σ ≥ 0.1)
+    skip_gain: bool = False    # … that movement scaled per dim by exp(A·(E_s(M^S) − E_s(M^T))), A zero at the start
     content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
     pairs: str = "union"       # M^T and M^S both drawn from content ∪ style corpus (C's one set X), or "across":
                                # M^T from the content corpus, M^S from the style corpus (the benchmark's direction)
@@ -97,6 +98,10 @@ class ContrastiveConfig:
         if self.disc_real not in ("source", "both"):
             raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
         check_pairs(self.pairs)
+        if (self.skip_adain or self.skip_gain) and not self.content_skip:
+            raise ValueError("skip_adain/skip_gain: need content_skip=True (they act on the content skip)")
+        if self.skip_adain and self.skip_gain:
+            raise ValueError("skip_adain, skip_gain: choose one way to restyle the skipped movement")
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
@@ -275,6 +280,12 @@ class ContrastiveModel(nn.Module):
         self.register_buffer("mean", torch.zeros(D) if mean is None else torch.as_tensor(mean, dtype=torch.float32))
         self.register_buffer("std", torch.ones(D) if std is None else torch.as_tensor(std, dtype=torch.float32))
         self._d_opt = None
+        # `skip_gain`: log-gain per feature dim, linear in the style codes' difference, zero at the start (gain 1);
+        # made without drawing random numbers, so every other weight and batch is as without it
+        self.movement_gain = None
+        if self.cfg.skip_gain:
+            self.movement_gain = nn.utils.skip_init(nn.Linear, self.cfg.style_dim, D, bias=False)
+            nn.init.zeros_(self.movement_gain.weight)
 
     pretraining = False  # True while `train` runs the autoencoder steps (C Eq. 3–4 logged, not used)
 
@@ -304,18 +315,22 @@ class ContrastiveModel(nn.Module):
         return self.style_encoder(x)
 
     def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int,
-                 content: torch.Tensor | None = None) -> torch.Tensor:
+                 content: torch.Tensor | None = None, content_style: torch.Tensor | None = None) -> torch.Tensor:
         """G(E_c(·) | E_s(·)) → normalised (B, length, D); with `content_skip`, plus the content
         motion's own movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D)),
-        with `skip_adain` as AdaIN gives it: σ̂(style code)·(x − μ_t(x))/σ_t(x)."""
+        with `skip_adain` as AdaIN gives it: σ̂(style code)·(x − μ_t(x))/σ_t(x), with `skip_gain` times
+        exp(A·(s − s_x)), s_x = `content_style`, the content's own style code (default: E_s(x))."""
         out = self.generator(content_code, style_code, length)
         if self.cfg.content_skip:
             if content is None:
                 raise ValueError("content: needed by a model with content_skip=True")
             if self.cfg.skip_adain:  # A Eq. 2 on the skip, σ from the style code, μ from G's output
-                out = out + adain(content, 0.0, self.generator.skip_sigma(style_code), eps=self.cfg.skip_eps)
-            else:
-                out = out + content - content.mean(1, keepdim=True)
+                return out + adain(content, 0.0, self.generator.skip_sigma(style_code), eps=self.cfg.skip_eps)
+            move = content - content.mean(1, keepdim=True)  # (B, T, D)
+            if self.movement_gain is not None:  # 1 when the two codes agree: reconstruction never trains A
+                own = self.encode_style(content) if content_style is None else content_style  # (B, l)
+                move = move * self.movement_gain(style_code - own).clamp(-3.0, 3.0).exp()[:, None]
+            out = out + move
         return out
 
     def _check(self, x, name):
@@ -332,9 +347,9 @@ class ContrastiveModel(nn.Module):
         T = target.shape[1]
         c_t, c_s = self.encode_content(target), self.encode_content(source)  # (B, h, t)
         s_t, s_s = self.encode_style(target), self.encode_style(source)      # (B, l)
-        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1], source), source)      # C Eq. 1
-               + reconstruction_loss(self.generate(c_t, s_t, T, target), target))
-        fake = self.generate(c_t, s_s, T, target)  # M^G = G(E_c(M^T) | E_s(M^S))
+        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1], source, s_s), source)  # C Eq. 1
+               + reconstruction_loss(self.generate(c_t, s_t, T, target, s_t), target))
+        fake = self.generate(c_t, s_s, T, target, s_t)  # M^G = G(E_c(M^T) | E_s(M^S))
         nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
         tri = triplet_loss(self.encode_style(fake), s_s, s_t, self.cfg.margin)              # C Eq. 4
         return {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
@@ -375,11 +390,10 @@ class ContrastiveModel(nn.Module):
         self._check(c, "content")
         self._check(s, "style")
         c, s = self.normalize(c), self.normalize(s)
-        code = self.encode_style(s)  # (1, l)
+        code, own = self.encode_style(s), self.encode_style(c)  # (1, l) each
         if w != 1.0:
-            own = self.encode_style(c)
             code = own + w * (code - own)
-        out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c))[0]
+        out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c, own))[0]
         out = out.cpu().numpy().astype(np.float64)
         k = self.cfg.keep_root
         out[:, :k] = np.asarray(content, np.float64)[:, :k]
