@@ -1,5 +1,6 @@
 """Paper C: losses against known answers, shapes, the discriminator's own step, a tiny training run,
 the packaged checkpoint and the bench entry, and the findings' measures."""
+import json
 import math
 
 import numpy as np
@@ -452,3 +453,15 @@ def test_recipe_rows_merge_by_label_and_keep_their_commands():
     rows = tool.merge_rows(saved, [{"variant": "course", "h": 3}, {"variant": "b", "h": 4}], "new")
     assert [(r["variant"], r["h"], r["command"]) for r in rows] == [("a", 1, "old"), ("b", 4, "new"), ("course", 3, "new")]
     assert tool.merge_rows({}, [{"variant": "a", "h": 1}], "new") == [{"variant": "a", "h": 1, "command": "new"}]
+
+
+def test_recipe_json_merges_sections_and_rows_atomically(tmp_path, monkeypatch):
+    tool = _findings_tool()
+    monkeypatch.setattr(tool, "RECIPES_JSON", tmp_path / "data" / "recipes.json")
+    tool._save({"strength": {"rows": [1]}, "val_pairs": 200})
+    seen = []
+    tool._save(lambda saved: seen.append(saved) or {"rows": [{"variant": "a"}]})  # a function of what is saved
+    assert seen == [{"strength": {"rows": [1]}, "val_pairs": 200}]
+    assert json.loads(tool.RECIPES_JSON.read_text()) == {"strength": {"rows": [1]}, "val_pairs": 200,
+                                                          "rows": [{"variant": "a"}]}
+    assert [p.name for p in tool.RECIPES_JSON.parent.iterdir()] == ["recipes.json"]  # no temporary file left

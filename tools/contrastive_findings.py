@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from dataclasses import asdict
 from pathlib import Path
@@ -171,12 +172,15 @@ def _command(argv) -> str:
     return " ".join(["python tools/contrastive_findings.py", *(argv if argv is not None else sys.argv[1:])])
 
 
-def _save(part: dict) -> None:
-    """Merge `part` into the JSON notebook 03 reads (sections not re-run are kept; a None drops its key)."""
+def _save(part) -> None:
+    """Merge `part` (a dict, or a function of the saved JSON that returns one) into the JSON notebook 03
+    reads, keeping the sections not re-run; written atomically."""
     latest = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
+    merged = {**latest, **(part(latest) if callable(part) else part)}
     RECIPES_JSON.parent.mkdir(parents=True, exist_ok=True)
-    merged = {k: v for k, v in {**latest, **part}.items() if v is not None}
-    RECIPES_JSON.write_text(json.dumps(merged, indent=1) + "\n")
+    tmp = RECIPES_JSON.with_name(RECIPES_JSON.name + ".tmp")
+    tmp.write_text(json.dumps(merged, indent=1) + "\n")
+    os.replace(tmp, RECIPES_JSON)
     print(RECIPES_JSON)
 
 
@@ -257,10 +261,11 @@ def main(argv=None) -> int:
         rows.append(row)
         print(row, flush=True)
     if args.save:
-        saved = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
-        if saved.get("val_pairs", len(pairs)) != len(pairs):
-            raise SystemExit(f"{RECIPES_JSON}: rows scored on {saved['val_pairs']} pairs, these on {len(pairs)}")
-        _save({"command": None, "val_pairs": len(pairs), "rows": merge_rows(saved, rows, _command(argv))})
+        def with_rows(saved: dict) -> dict:
+            if saved.get("val_pairs", len(pairs)) != len(pairs):
+                raise SystemExit(f"{RECIPES_JSON}: rows scored on {saved['val_pairs']} pairs, these on {len(pairs)}")
+            return {"val_pairs": len(pairs), "rows": merge_rows(saved, rows, _command(argv))}
+        _save(with_rows)
     return 0
 
 
