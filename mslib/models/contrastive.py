@@ -43,22 +43,14 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import nn
-from torch.utils.data import Dataset
 
 from ..checkpoints import course_path, load_state
-from ..data.datasets import MotionFolder
 from ..motion.features import N_FEATURES, decode
 from ..training import TrainConfig, fit, pretrain_then_freeze, run_summary
+from .contrastive_data import PairedClips, check_pairs
 from .layers import ResBlock1d, adain
 
 NAME = "contrastive"
-
-
-def check_pairs(pairs: str) -> str:
-    """`pairs` itself, if it names a way to draw training pairs ("union" or "across")."""
-    if pairs not in ("union", "across"):
-        raise ValueError(f"pairs: expected 'union' or 'across', got {pairs!r}")
-    return pairs
 
 
 @dataclass
@@ -408,57 +400,6 @@ class ContrastiveModel(nn.Module):
             x = torch.as_tensor(np.stack(clips[i:i + batch_size]), dtype=torch.float32, device=self.mean.device)
             codes.append(self.encode_style(self.normalize(x)).cpu().numpy())
         return np.concatenate(codes, 0)
-
-
-# ---------------------------------------------------------------- data
-class PairedClips(Dataset):
-    """Random (target, source) pairs, unlabelled, both normalised with the content corpus's statistics:
-    item i = a `crop`-row window of clip i and of a random clip, drawn from the content ∪ style corpus
-    (`pairs="union"`, C's one set X), or of content clip i and a random style clip (`pairs="across"`).
-
-    exclude_styles: styles to leave out of both corpora (the unseen-style experiment, C Fig. 3: every
-    clip labelled with them is dropped; the labels are read only for this filter)."""
-
-    def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
-                 exclude_styles=(), mean=None, std=None, pairs: str = "union"):
-        self.pairs = check_pairs(pairs)
-        self.content = MotionFolder(content_folder, split, normalize=False, labels=())
-        style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
-        drop = set(exclude_styles)
-        keep = [i for i, r in enumerate(style.rows) if r.get("style") not in drop]
-        self.content_index = [i for i, r in enumerate(self.content.rows) if r.get("style") not in drop]
-        if not keep or not self.content_index:
-            raise ValueError(f"exclude_styles: {list(exclude_styles)} leaves no style or no content clips")
-        self.style, self.style_index = style, keep
-        self.crop = int(crop)
-        self.mean = self.content.mean if mean is None else np.asarray(mean, np.float32)
-        self.std = self.content.std if std is None else np.asarray(std, np.float32)
-
-    def __len__(self) -> int:
-        return len(self.content_index) + (len(self.style_index) if self.pairs == "union" else 0)
-
-    def _clip(self, i: int) -> np.ndarray:
-        """Features of clip i of content + style clips: the content clips first, then the style clips."""
-        n = len(self.content_index)
-        if i < n:
-            return self.content._arrays(self.content_index[i])[0]
-        return self.style._arrays(self.style_index[i - n])[0]
-
-    def _window(self, f: np.ndarray) -> np.ndarray:
-        if len(f) < self.crop:  # edge-pad short clips
-            return np.concatenate([f, np.repeat(f[-1:], self.crop - len(f), 0)])
-        s = np.random.randint(len(f) - self.crop + 1)
-        return f[s:s + self.crop]
-
-    def __getitem__(self, i: int) -> dict:
-        tgt = self._window(self._clip(i))
-        if self.pairs == "union":  # M^T, M^S ~ X
-            j = np.random.randint(len(self))
-        else:  # a style clip: they follow the content clips in `_clip`'s numbering
-            j = len(self.content_index) + np.random.randint(len(self.style_index))
-        src = self._window(self._clip(j))
-        norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
-        return {"target": norm(tgt), "source": norm(src)}
 
 
 # ---------------------------------------------------------------- training and loading
