@@ -44,7 +44,7 @@ def pin_cpu_code_paths(environ=None, avx2: bool | None = None) -> dict:
     return added
 
 
-def main(argv=None) -> int:
+def main(argv=None) -> None:
     """`python -m mslib.cpu_paths COMMAND ...`: run COMMAND with the pinned code path (`make lab` does)."""
     import sys
     argv = sys.argv[1:] if argv is None else argv

@@ -382,8 +382,9 @@ class ContrastiveModel(nn.Module):
         self._check(c, "content")
         self._check(s, "style")
         c, s = self.normalize(c), self.normalize(s)
-        code, own = self.encode_style(s), self.encode_style(c)  # (1, l) each
+        code, own = self.encode_style(s), None  # (1, l); `generate` finds the content's own code if it needs it
         if w != 1.0:
+            own = self.encode_style(c)
             code = own + w * (code - own)
         out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c, own))[0]
         out = out.cpu().numpy().astype(np.float64)
