@@ -18,7 +18,7 @@ $(STAMP): requirements.txt pyproject.toml
 	@touch $(STAMP)
 
 # (--allow-root only where you are root, e.g. in a container; mslib.cpu_paths: the numeric code path
-# the stored outputs were written with, so an AVX-512 laptop prints what they show)
+# the stored outputs were written with, meant to let an AVX-512 laptop print what they show)
 lab: $(STAMP)
 	$(BIN)/python -m mslib.cpu_paths $(BIN)/jupyter lab notebooks/ $(if $(filter 0,$(shell id -u)),--allow-root)
 

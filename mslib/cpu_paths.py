@@ -1,12 +1,13 @@
-"""One numeric code path on every x86-64 CPU with AVX2, so outputs stored on one machine match on another.
+"""One numeric code path on every x86-64 CPU with AVX2, so outputs stored on one machine can match on another.
 
 PyTorch, MKL, oneDNN, OpenBLAS and numpy each pick, at run time, the widest kernels the CPU offers
 (AVX-512 where there is one), and those round differently: the same notebook on an AVX2 and on an
 AVX-512 machine prints numbers that differ in the last digits, which strict nbval reports as failures
 (seen here: notebooks 02, 04, 06 and 07 after a change of machine). The variables below cap each
-library at AVX2. They must be set before a library loads, so they act on processes started afterwards:
-the root `conftest.py` sets them for nbval's kernels, `tools/build_notebooks.py` for the kernels that
-write the stored outputs. Variables already set are left alone; CPUs without AVX2 are left alone.
+library at AVX2 (checked so far on an AVX2 machine only: there they change nothing, and an SSE-level
+cap does change the digits, so the libraries read them). They must be set before a library loads, so
+they act on processes started afterwards: the root `conftest.py` sets them for nbval's kernels,
+`tools/build_notebooks.py` for the kernels that write the stored outputs. Variables already set are left alone; CPUs without AVX2 are left alone.
 """
 from __future__ import annotations
 

@@ -23,10 +23,9 @@ course recipe did until it drew both from their union, C's one set X):
     skip_adain   `union_short` with the skip's movement instance-normalised and rescaled by a σ per dimension
                  that G predicts from the style code (A Eq. 2 on the skip): the style code must carry how much
                  each dimension moves, so the frozen E_s would judge the movement too, not only the posture;
-    skip_gain    `union_short` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T))):
-                 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A, and how much a
-                 dimension moves changes with the style codes' difference, not with the style code alone;
-    course_gain  `course` with `skip_gain`;
+    course_gain  `course` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T)))
+                 (`skip_gain`): 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A,
+                 and how much a dimension moves follows the style codes' difference, not one style code;
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
@@ -81,7 +80,6 @@ VARIANTS = {  # overrides of the course preset
     "union_short": dict(**SHORT),
     "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"]),
     "skip_adain": dict(skip_adain=True, **SHORT),
-    "skip_gain": dict(skip_gain=True, **SHORT),
     "course_gain": dict(skip_gain=True),
     "course": {},
 }
