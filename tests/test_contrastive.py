@@ -442,7 +442,8 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
         assert replace(cfg[name], steps=course.steps) == course and course.steps > cfg[name].steps
     assert replace(cfg["skip_adain"], skip_adain=False) == cfg["union_short"] and not course.skip_adain
     assert replace(cfg["course_gain"], skip_gain=False) == course and not course.skip_gain
-    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain")
+    assert replace(cfg["course_long"], steps=course.steps) == course and cfg["course_long"].steps == 2 * course.steps
+    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain", "course_long")
     assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
 
 

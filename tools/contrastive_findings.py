@@ -26,6 +26,7 @@ course recipe did until it drew both from their union, C's one set X):
     course_gain  `course` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T)))
                  (`skip_gain`): 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A,
                  and how much a dimension moves follows the style codes' difference, not one style code;
+    course_long  `course` with the second phase twice as long (20000 steps of C Eq. 5);
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
@@ -81,6 +82,7 @@ VARIANTS = {  # overrides of the course preset
     "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"]),
     "skip_adain": dict(skip_adain=True, **SHORT),
     "course_gain": dict(skip_gain=True),
+    "course_long": dict(steps=20000),
     "course": {},
 }
 
