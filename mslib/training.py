@@ -229,11 +229,11 @@ def _save(out, model, model_name, opt, sched, history, step, cfg):
 def pretrain_then_freeze(model: torch.nn.Module, train_set: Dataset, cfg: TrainConfig, steps: int, frozen,
                          resume=None, **fit_kwargs) -> TrainConfig:
     """The course models' two-phase recipe (A stage 1, C): `steps` of `fit` with `model.pretraining=True`
-    (the model's autoencoder losses; skipped when resuming phase 2), then the `frozen` modules stop
-    requiring gradients; returns phase 2's TrainConfig (seed + 1). steps = 0: `cfg` unchanged."""
+    (the model's autoencoder losses; skipped when `resume` names an existing checkpoint of phase 2), then the
+    `frozen` modules stop requiring gradients; returns phase 2's TrainConfig (seed + 1). steps = 0: `cfg` unchanged."""
     if not steps:
         return cfg
-    if resume is None:
+    if resume is None or not Path(resume).is_file():  # as in `fit`, a missing resume file means a fresh start
         model.pretraining = True
         try:
             model.pretrain_history = fit(model, train_set, replace(cfg, steps=int(steps)), **fit_kwargs)

@@ -8,7 +8,7 @@ import pytest
 import torch
 from torch.utils.data import Dataset
 
-from mslib.checkpoints import course_path
+from mslib.checkpoints import course_path, read_checkpoint
 from mslib.models import contrastive as C
 from mslib.models import contrastive_analysis as CA
 from mslib.training import fit
@@ -244,6 +244,32 @@ def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
     assert all(torch.equal(a, b) for a, b in zip(calls[1]["style"], m.style_encoder.parameters()))   # frozen
     assert any(not torch.equal(a, b) for a, b in zip(calls[0]["style"], calls[1]["style"]))          # trained in 1
     assert any(not torch.equal(a, b) for a, b in zip(calls[1]["content"], m.content_encoder.parameters()))
+
+
+def test_a_cut_run_resumes_its_second_phase(tmp_path, monkeypatch):
+    from mslib.data.corpora import load_builtin
+    builtin = load_builtin(progress=False)
+    cfg, out = tiny(steps=4, pretrain_steps=2, batch_size=4, warmup_steps=0), tmp_path / "cut.pt"
+    calls = []
+    real_step = C.ContrastiveModel.training_step
+
+    def cut_at_phase_2_step_3(model, batch):
+        calls.append(model.pretraining)
+        if calls.count(False) == 3 and len(calls) < 6:
+            raise KeyboardInterrupt("the session ended")
+        return real_step(model, batch)
+
+    monkeypatch.setattr(C.ContrastiveModel, "training_step", cut_at_phase_2_step_3)
+    with pytest.raises(KeyboardInterrupt):
+        C.train(cfg, builtin["content"], builtin["style"], seed=1, out=out, progress=False, val=False,
+                checkpoint_every=2)
+    assert read_checkpoint(out, C.NAME)["extra"]["step"] == 2  # the checkpoint written at phase-2 step 2
+    calls.clear()
+    m, h = C.train(cfg, builtin["content"], builtin["style"], seed=1, out=out, progress=False, val=False,
+                   resume=out, checkpoint_every=2)
+    assert calls == [False, False]  # no autoencoder steps again; phase 2's steps 3 and 4
+    assert h["step"] == [1, 2, 3, 4] and read_checkpoint(out, C.NAME)["extra"]["step"] == 4
+    assert not any(p.requires_grad for p in m.style_encoder.parameters())
 
 
 def test_paired_clips_leave_a_style_out():

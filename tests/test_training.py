@@ -8,7 +8,7 @@ import torch
 from torch.utils.data import TensorDataset
 
 from mslib.checkpoints import FORMAT_VERSION, load_state, read_checkpoint, save_checkpoint
-from mslib.training import TrainConfig, fit, lr_factor, run_summary
+from mslib.training import TrainConfig, fit, lr_factor, pretrain_then_freeze, run_summary
 
 
 class Linear(torch.nn.Module):
@@ -77,6 +77,29 @@ def test_resume_continues_where_it_stopped(tmp_path):
     h2 = fit(resumed, data(), cfg, model_name="linear", resume=tmp_path / "ck.pt", progress=False)
     assert h2["step"][-1] == 40 and len(h2["train"]["loss"]) == 40
     assert torch.isfinite(resumed.lin.weight).all()
+
+
+class TwoPhase(Linear):
+    """Linear that counts the steps it trains in its pretraining phase."""
+
+    pretraining = False
+    pretrain_steps_seen = 0
+
+    def training_step(self, batch):
+        self.pretrain_steps_seen += self.pretraining
+        return super().training_step(batch)
+
+
+def test_pretrain_runs_unless_the_resume_file_exists(tmp_path):
+    cfg = TrainConfig(steps=5, lr=1e-2, seed=4)
+    fresh = TwoPhase()
+    phase2 = pretrain_then_freeze(fresh, data(), cfg, 7, [fresh.lin], resume=tmp_path / "missing.pt", progress=False)
+    assert fresh.pretrain_steps_seen == 7 and phase2.seed == 5  # a missing file: a fresh start, phase 1 included
+    assert not any(p.requires_grad for p in fresh.lin.parameters())
+    save_checkpoint(tmp_path / "cut.pt", fresh, fresh.config, "linear")
+    cut = TwoPhase()
+    pretrain_then_freeze(cut, data(), cfg, 7, [cut.lin], resume=tmp_path / "cut.pt", progress=False)
+    assert cut.pretrain_steps_seen == 0  # phase 2 resumes from the file; phase 1 is not run again
 
 
 def test_lr_schedule():

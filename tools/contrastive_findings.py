@@ -192,6 +192,9 @@ def main(argv=None) -> int:
     t.add_argument("variant", choices=sorted(VARIANTS))
     t.add_argument("out")
     t.add_argument("--seed", type=int, default=0)
+    t.add_argument("--checkpoint-every", type=int, default=1000, metavar="N",
+                   help="save OUT every N second-phase steps (0: only at the end)")
+    t.add_argument("--resume", action="store_true", help="continue from OUT, saved by a run that was cut")
     w = sub.add_parser("strength", help="the packaged checkpoint at several style strengths on the val pairs")
     w.add_argument("--save", action="store_true")
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
@@ -207,7 +210,10 @@ def main(argv=None) -> int:
     paths = load_builtin(progress=False)
     if args.cmd == "train":
         cfg = C.ContrastiveConfig.preset("course", **VARIANTS[args.variant])
-        C.train(cfg, paths["content"], paths["style"], seed=args.seed, out=args.out)
+        if args.resume and not Path(args.out).is_file():
+            raise SystemExit(f"--resume: {args.out} does not exist")
+        C.train(cfg, paths["content"], paths["style"], seed=args.seed, out=args.out,
+                resume=args.out if args.resume else None, checkpoint_every=args.checkpoint_every)
         print(args.out)
         return 0
     pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()

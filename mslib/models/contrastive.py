@@ -405,14 +405,16 @@ class ContrastiveModel(nn.Module):
 
 # ---------------------------------------------------------------- training and loading
 def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, device="cpu", resume=None,
-          progress: bool = True, exclude_styles=(), val: bool = True):
-    """Build the model and data, run the one loop; returns (model, history)."""
+          progress: bool = True, exclude_styles=(), val: bool = True, checkpoint_every: int = 0):
+    """Build the model and data, run the one loop; returns (model, history). `checkpoint_every` > 0 also
+    saves `out` every that many phase-2 steps, so `resume=out` continues a cut run."""
     torch.manual_seed(seed)
     data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs)
     model = ContrastiveModel(cfg, data.mean, data.std)
     val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs) if val else None
     # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
-    tcfg = pretrain_then_freeze(model, data, cfg.train_config(seed), cfg.pretrain_steps, [model.style_encoder],
+    tcfg = pretrain_then_freeze(model, data, replace(cfg.train_config(seed), checkpoint_every=checkpoint_every),
+                                cfg.pretrain_steps, [model.style_encoder],
                                 resume=resume, val_set=val_set, model_name=f"{NAME} (autoencoder)", device=device,
                                 progress=progress, parameters=model.generator_parameters())
     history = fit(model, data, tcfg, val_set=val_set, model_name=NAME, out=out,
