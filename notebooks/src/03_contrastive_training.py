@@ -201,7 +201,8 @@ _ = fig
 # $\exp\big(A\,(E_s(M^S) - E_s(M^T))\big)$, $A$ a learned matrix that starts at zero. The gain is 1
 # whenever the two codes agree, so reconstruction never trains $A$ — only C Eq. 2–4 in the second phase
 # do — and the movement's scale follows the *difference* of two style codes, not one code that must
-# also describe the clip. The last row is the course recipe:
+# also describe the clip. `course_long` (seeds 0 and 2) is the course recipe with its second phase twice as
+# long, 20000 steps. The last row is the course recipe:
 # `union_short` with its second phase four times as long (seed 0, like every row without a seed suffix).
 # FMD (lower = closer to real motion) is the benchmark's realism measure.
 # "Content from style clip" is the share of transfers the content classifier names after the *style*
@@ -223,7 +224,7 @@ for r in recipes["rows"]:
 rec = {r["variant"]: r for r in recipes["rows"]}
 BAR_H = 0.60  # this method's bar, set on the benchmark's default (test) draw
 SEED_RUNS = {f"{name}_s{n}": name for name in ("across", "union_short", "union_mid") for n in (1, 2)}  # retrained with seeds 1, 2
-SEED_RUNS["course_gain_s2"] = "course_gain"  # trained with seeds 0 and 2
+SEED_RUNS.update(course_gain_s2="course_gain", course_long_s2="course_long")  # trained with seeds 0 and 2
 by = {k: r["h"] for k, r in rec.items() if k not in SEED_RUNS}  # one run per recipe (seed 0)
 runs = lambda name: np.array([by[name]] + [rec[k]["h"] for k, v in SEED_RUNS.items() if v == name])  # noqa: E731
 across_seeds, short_seeds, mid_seeds = runs("across"), runs("union_short"), runs("union_mid")
@@ -327,20 +328,26 @@ for new, new_hs, old, old_hs in (("union_short", short_seeds, "across", across_s
           new_hs.mean() - old_hs.mean() > max(np.ptp(new_hs), np.ptp(old_hs)))
 print("`across`'s lead over joint and literal wider than its seed range:",
       all(by["across"] - by[k] > np.ptp(across_seeds) for k in ("joint", "literal")))
-gain_leads = []
-for seed, r in ((0, rec["course_gain"]), (2, rec["course_gain_s2"])):  # the movement gain against the same seed's plain run
-    base = next(b for b in seeds["rows"] if b["seed"] == seed and b["strength"] == 1.0)
-    gain_leads.append(r["h"] - base["h"])
-    print(f"movement gain (`course_gain`), seed {seed}, against the course recipe's run: H {gain_leads[-1]:+.3f}, "
-          + ", ".join(f"{k} {r[k] - base[k]:+.1f}" for k in ("cra", "sra", "content_from_style_clip")))
-print("movement gain adopted (the rule fixed before it was scored: above the plain run on both seeds, mean lead ≥ 0.02):",
-      min(gain_leads) > 0 and np.mean(gain_leads) >= 0.02)
+CANDIDATES = {"course_gain": "movement gain", "course_long": "second phase twice as long"}  # each trained with seeds 0 and 2
+for name, what in CANDIDATES.items():
+    leads = []
+    for seed, r in ((0, rec[name]), (2, rec[f"{name}_s2"])):  # against the same seed's plain run
+        base = next(b for b in seeds["rows"] if b["seed"] == seed and b["strength"] == 1.0)
+        leads.append(r["h"] - base["h"])
+        print(f"{what} (`{name}`), seed {seed}, against the course recipe's run: H {leads[-1]:+.3f}, "
+              + ", ".join(f"{k} {r[k] - base[k]:+.1f}" for k in ("cra", "sra", "content_from_style_clip")))
+    print(f"`{name}` adopted (the rule fixed before it was scored: above the plain run on both seeds, mean lead ≥ 0.02):",
+          min(leads) > 0 and np.mean(leads) >= 0.02)
 fig, ax = plt.subplots(figsize=(5, 3))
+long_h, long_steps = {0: rec["course_long"]["h"], 2: rec["course_long_s2"]["h"]}, rec["course_long"]["steps"][1]
 for seed in range(len(course_seeds)):
-    ax.plot(lengths, [by_length[n][seed] for n in lengths], "o-", label=f"seed {seed}")
+    line, = ax.plot(lengths, [by_length[n][seed] for n in lengths], "o-", label=f"seed {seed}")
+    if seed in long_h:  # `course_long`: the same seed, twice the course recipe's second phase
+        ax.plot([lengths[-1], long_steps], [by_length[lengths[-1]][seed], long_h[seed]], "o:", color=line.get_color())
 ax.axhline(BAR_H, color="gray", ls="--", lw=1, label="the bar (on the test draw)")
-ax.set(xscale="log", xticks=lengths, xticklabels=lengths, xlabel="steps of the second phase (E_s frozen)",
-       ylabel="H on val pairs", title="course recipe, longer second phase")
+ticks = lengths + [long_steps]
+ax.set(xscale="log", xticks=ticks, xticklabels=ticks, xlabel="steps of the second phase (E_s frozen)",
+       ylabel="H on val pairs", title="course recipe, longer second phase\n(dotted: `course_long`)")
 ax.minorticks_off()
 ax.legend(fontsize=8)
 _ = fig
@@ -355,8 +362,16 @@ _ = fig
 # The movement gain leans the same way as `skip_adain`, far more mildly: on both seeds the transfers
 # lose content (CRA); on one the style (SRA) rises, on the other it does not and more transfers take the
 # style clip's content instead (the printed lines give each seed's changes). Whether it pays in H depends
-# on the run, so by the rule fixed before the runs were scored it stays out of the preset: a `skip_gain` option of `ContrastiveConfig`, in neither
-# preset, for students who want to try it (`tools/contrastive_findings.py train course_gain OUT`).
+# on the run, so by the rule fixed before the runs were scored it stays out of the preset: a `skip_gain`
+# option of `ContrastiveConfig`, in neither preset, for students who want to try it
+# (`tools/contrastive_findings.py train course_gain OUT`).
+#
+# Twice the second phase does not carry the trend on: on both seeds the longer run scores below the
+# course recipe's run of the same seed, losing both content (CRA) and style (SRA), and it moves further
+# from real motion (FMD) — the printed lines give each seed's changes, the dotted lines in the picture the
+# turn. More steps of C Eq. 5 are not what the course model lacks, so by the rule fixed before these runs
+# were scored the course preset keeps its second phase as it is
+# (`tools/contrastive_findings.py train course_long OUT` reproduces the runs).
 
 # %% [markdown]
 # **Where does the style of a transfer live?** Two checks on the same validation pairs
