@@ -6,7 +6,8 @@
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds (COURSE_RUN)
 
-`train` trains one variant of the course preset. The recipes were compared at the course's earlier, shorter
+`train` trains one variant of the course preset, saving OUT every 1000 second-phase steps (`--resume` continues
+a run that was cut from there). The recipes were compared at the course's earlier, shorter
 schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
 joint recipes train as many steps as those two phases together. All but `course` and the `union_…` recipes draw M^T
 from the content corpus and M^S from the style corpus (`pairs="across"`, the benchmark's direction, as the
