@@ -328,10 +328,11 @@ for new, new_hs, old, old_hs in (("union_short", short_seeds, "across", across_s
           new_hs.mean() - old_hs.mean() > max(np.ptp(new_hs), np.ptp(old_hs)))
 print("`across`'s lead over joint and literal wider than its seed range:",
       all(by["across"] - by[k] > np.ptp(across_seeds) for k in ("joint", "literal")))
-CANDIDATES = {"course_gain": "movement gain", "course_long": "second phase twice as long"}  # each trained with seeds 0 and 2
+CANDIDATES = {"course_gain": "movement gain", "course_long": "second phase twice as long"}
+candidate_runs = lambda name: {0: rec[name], 2: rec[f"{name}_s2"]}  # noqa: E731  (each trained with seeds 0 and 2)
 for name, what in CANDIDATES.items():
     leads = []
-    for seed, r in ((0, rec[name]), (2, rec[f"{name}_s2"])):  # against the same seed's plain run
+    for seed, r in candidate_runs(name).items():  # against the same seed's plain run
         base = next(b for b in seeds["rows"] if b["seed"] == seed and b["strength"] == 1.0)
         leads.append(r["h"] - base["h"])
         print(f"{what} (`{name}`), seed {seed}, against the course recipe's run: H {leads[-1]:+.3f}, "
@@ -339,7 +340,8 @@ for name, what in CANDIDATES.items():
     print(f"`{name}` adopted (the rule fixed before it was scored: above the plain run on both seeds, mean lead ≥ 0.02):",
           min(leads) > 0 and np.mean(leads) >= 0.02)
 fig, ax = plt.subplots(figsize=(5, 3))
-long_h, long_steps = {0: rec["course_long"]["h"], 2: rec["course_long_s2"]["h"]}, rec["course_long"]["steps"][1]
+long_h = {seed: r["h"] for seed, r in candidate_runs("course_long").items()}
+long_steps = rec["course_long"]["steps"][1]
 for seed in range(len(course_seeds)):
     line, = ax.plot(lengths, [by_length[n][seed] for n in lengths], "o-", label=f"seed {seed}")
     if seed in long_h:  # `course_long`: the same seed, twice the course recipe's second phase
