@@ -46,6 +46,19 @@ def test_triplet_known_answers():
     assert C.triplet_loss(q, near, q, 1.0).item() == pytest.approx(1.5)
 
 
+def test_triplet_with_the_batch_as_negatives_known_answers():
+    q = torch.zeros(2, 3)
+    pos = torch.tensor([[1.0, 0, 0], [0, 0, 0]])
+    neg = torch.tensor([[4.0, 0, 0], [0, 0.5, 0]])
+    # pair 0: d⁺ 1, negatives its target (4) and pair 1's positive (0): hinges 0 and 2
+    # pair 1: d⁺ 0, negatives its target (0.5) and pair 0's positive (1): hinges 0.5 and 0
+    assert C.triplet_loss_batch(q, pos, neg, 1.0).item() == pytest.approx((0 + 2 + 0.5 + 0) / 4)
+    one = slice(0, 1)  # one pair: C Eq. 4 itself
+    assert C.triplet_loss_batch(q[one], pos[one], neg[one]).item() == C.triplet_loss(q[one], pos[one], neg[one]).item()
+    with pytest.raises(ValueError, match="style_negatives"):
+        C.ContrastiveConfig.preset("course", style_negatives="all")
+
+
 def test_adversarial_and_reconstruction_known_answers():
     d, g = C.adversarial_losses(torch.zeros(4, 3), torch.zeros(4, 3))
     assert d.item() == pytest.approx(2 * math.log(2)) and g.item() == pytest.approx(math.log(2))
@@ -341,6 +354,10 @@ def test_silhouette_purity_and_gram_known_answers():
     line = np.array([0.0, 1, 3, 4, 7, 8])[:, None]  # nearest neighbours pair up: (0, 1), (3, 4), (7, 8)
     assert CA.nn_accuracy(line, np.array(list("aabbaa"))) == pytest.approx(1.0)
     assert CA.nn_accuracy(line, np.array(list("ababab"))) == 0.0
+    # groups: a code's own group is not searched. Two "a" windows of one recording (0, 0.5), a "b" at 1.2, an "a" at 5:
+    pts, lab, rec = np.array([[0.0], [0.5], [1.2], [5.0]]), np.array(list("aaba")), np.array(list("gghk"))
+    assert CA.nearest_neighbour_purity(pts, lab, "a") == pytest.approx(2 / 3)  # 0 ↔ 0.5 find each other, 5 finds b
+    assert CA.nearest_neighbour_purity(pts, lab, "a", rec) == 0.0  # outside their recording, 0 and 0.5 find b too
     mixed = rng.normal(size=(40, 4))
     assert abs(CA.silhouette(mixed, labels)) < 0.1
     x = rng.normal(size=(10, 3))
@@ -469,7 +486,8 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     assert replace(cfg["skip_adain"], skip_adain=False) == cfg["union_short"] and not course.skip_adain
     assert replace(cfg["course_gain"], skip_gain=False) == course and not course.skip_gain
     assert replace(cfg["course_long"], steps=course.steps) == course and cfg["course_long"].steps == 2 * course.steps
-    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain", "course_long")
+    assert replace(cfg["course_negatives"], style_negatives="target") == course and course.style_negatives == "target"
+    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain", "course_long", "course_negatives")
     assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
 
 

@@ -86,6 +86,9 @@ def test_style_corpus_splits_by_take_and_covers_the_grid(small):
     assert test_styles == set(STYLES)
     starts = sorted(int(r["start_frame"]) for r in rows if r["take"] == rows[0]["take"])
     assert starts[:3] == [0, 24, 48]  # 32-frame windows, 8 frames of overlap
+    assert all(corpora.take_of(r["clip_id"]) == r["take"] for r in rows)  # a window's id names its take
+    assert corpora.take_of(corpora.window_id("t0001_old_walk", 12)) == "t0001_old_walk"
+    assert corpora.take_of("walk_wide") == "walk_wide"  # no window suffix: the id is its own take
 
 
 def test_bvh_takes(small):

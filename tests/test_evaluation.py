@@ -77,6 +77,30 @@ def test_reference_rows_do_what_they_say():
     assert len(bench.loop_features(np.arange(5)[:, None], 12)) == 12
 
 
+def test_by_style_known_answers():
+    """Per-style SRA, CRA and the style most outputs are read as, from a stand-in evaluator's logits."""
+    class Stub:  # reads output k as style read[k] and content cread[k]
+        style = type("C", (), {"classes": ["calm", "proud", "sexy"]})
+        content = type("C", (), {"classes": ["jump", "walk"]})
+
+        def score(self, outputs):
+            eye_s, eye_c = np.eye(3), np.eye(2)
+            return eye_c[[o[1] for o in outputs]], eye_s[[o[0] for o in outputs]], None
+
+    # (style read, content read) per output; pairs: 3 × proud, 2 × sexy
+    outputs = [(1, 1), (1, 0), (0, 1), (1, 1), (0, 0)]
+    pairs = [({"content": "walk"}, {"style": "proud"})] * 3 + [({"content": "jump"}, {"style": "sexy"})] * 2
+    rows = bench.by_style(outputs, pairs, Stub())
+    assert [r["style"] for r in rows] == ["proud", "sexy"] and [r["n"] for r in rows] == [3, 2]
+    proud, sexy = rows
+    assert proud["sra"] == pytest.approx(200 / 3) and proud["cra"] == pytest.approx(200 / 3)
+    assert (proud["read_as"], proud["read_as_share"]) == ("proud", pytest.approx(200 / 3))
+    assert sexy["sra"] == 0.0 and sexy["cra"] == 50.0
+    assert (sexy["read_as"], sexy["read_as_share"]) == ("calm", 50.0)  # a tie goes to the first name: calm, proud
+    with pytest.raises(ValueError, match="one per pair"):
+        bench.by_style(outputs[:2], pairs, Stub())
+
+
 # ---------------------------------------------------------------- the packaged evaluator on the built-in data
 @pytest.fixture(scope="module")
 def builtin():

@@ -5,6 +5,7 @@
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
     .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds (COURSE_RUN)
+    .venv/bin/python tools/contrastive_findings.py styles [LABEL=PATH ...]  # SRA and CRA style by style
 
 `train` trains one variant of the course preset, saving OUT every 1000 second-phase steps (`--resume` continues
 a run that was cut from there). The recipes were compared at the course's earlier, shorter
@@ -28,6 +29,8 @@ course recipe did until it drew both from their union, C's one set X):
                  (`skip_gain`): 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A,
                  and how much a dimension moves follows the style codes' difference, not one style code;
     course_long  `course` with the second phase twice as long (20000 steps of C Eq. 5);
+    course_negatives `course` with C Eq. 4's hinge also against the other pairs' source codes in the batch
+                 (`style_negatives="batch"`): E_s(M^G) must be nearer its own source's code than to any other;
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
@@ -63,10 +66,11 @@ sys.path.insert(0, str(ROOT))
 RECIPES_JSON = ROOT / "notebooks" / "data" / "03_contrastive_recipes.json"
 
 from mslib.checkpoints import course_path, read_checkpoint  # noqa: E402
-from mslib.data.corpora import load_builtin  # noqa: E402
-from mslib.evaluation.bench import Evaluator, evaluate, load_pairs  # noqa: E402
+from mslib.data.corpora import load_builtin, take_of  # noqa: E402
+from mslib.evaluation.bench import Evaluator, by_style, evaluate, load_pairs  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
 from mslib.models.adain import load_adain  # noqa: E402
+from mslib.models.contrastive_analysis import nearest_neighbour_purity  # noqa: E402
 from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 
@@ -84,6 +88,7 @@ VARIANTS = {  # overrides of the course preset
     "skip_adain": dict(skip_adain=True, **SHORT),
     "course_gain": dict(skip_gain=True),
     "course_long": dict(steps=20000),
+    "course_negatives": dict(style_negatives="batch"),
     "course": {},
 }
 
@@ -169,6 +174,36 @@ def ceiling(model, pairs, evaluator) -> dict:
             "adain_posture_moved_median": round(float(np.median(a_moved)), 4)}
 
 
+def styles(pairs, evaluator, checkpoints=()) -> list:
+    """`by_style` rows of the packaged model, the half-posture mix and each LABEL=PATH checkpoint (w = 1); for a
+    model also how often a style clip's nearest other style code (E_s, the clips of the pairs) shares its style."""
+    found = [ck.partition("=")[::2] for ck in checkpoints]
+    for label, ck in found:
+        if not label or not Path(ck).is_file():
+            raise SystemExit(f"{label}={ck}: expected LABEL=PATH of an existing checkpoint")
+    transfers = [("course model", C.load()),
+                 ("statistics, w_mean=0.5, w_std=0.0", lambda c, s: stats_mix(c, s, 0.5, 0.0)),
+                 *((label, C.load(ck)) for label, ck in found)]
+    out = []
+    for label, how in transfers:
+        fn = (lambda c, s, m=how: m.transfer_features(c, s, 1.0)) if isinstance(how, C.ContrastiveModel) else how
+        feats = [fn(c["features"].astype(np.float64), s["features"].astype(np.float64)) for c, s in pairs]
+        rows = [{**r, **rounded({k: r[k] for k in ("sra", "cra", "read_as_share")})}
+                for r in by_style([decode(f) for f in feats], pairs, evaluator)]
+        if isinstance(how, C.ContrastiveModel):  # can its own judge, E_s, tell the style clips apart?
+            clips = list({s["clip_id"]: s for _, s in pairs}.values())  # each style clip once
+            codes, labels = how.style_codes([s["features"] for s in clips]), [s["style"] for s in clips]
+            takes = [take_of(s["clip_id"]) for s in clips]  # a neighbour from another recording, not a window of the same
+            for r in rows:
+                r["es_nn_purity"] = round(100.0 * nearest_neighbour_purity(codes, labels, r["style"], takes), 4)
+                r["es_clips"] = labels.count(r["style"])  # the purity a code with no style in it would get: about n/N
+                r["es_chance"] = round(100.0 * r["es_clips"] / len(labels), 4)
+        out.append({"transfer": label, "rows": rows})
+        for r in rows:
+            print(label, r, flush=True)
+    return out
+
+
 def _command(argv) -> str:
     return " ".join(["python tools/contrastive_findings.py", *(argv if argv is not None else sys.argv[1:])])
 
@@ -204,6 +239,9 @@ def main(argv=None) -> int:
                                      "scored beside the packaged checkpoint at w = 1 (and the course style strength)")
     d.add_argument("checkpoints", nargs="+", help=f"checkpoints made by {COURSE_RUN} --seed N --out OUT")
     d.add_argument("--save", action="store_true")
+    y = sub.add_parser("styles", help="SRA and CRA style by style: the packaged model, the half-posture mix, checkpoints")
+    y.add_argument("checkpoints", nargs="*", help="LABEL=PATH")
+    y.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
     v.add_argument("--save", action="store_true", help=f"write the rows to {RECIPES_JSON.relative_to(ROOT)}")
@@ -247,6 +285,11 @@ def main(argv=None) -> int:
             names = " ".join(Path(ck).name for ck in args.checkpoints)
             _save({"seeds": {"command": " && ".join([*trained, f"python tools/contrastive_findings.py seeds {names} --save"]),
                              "rows": rows}})
+        return 0
+    if args.cmd == "styles":
+        part = {"command": _command(argv), "transfers": styles(pairs, evaluator, args.checkpoints)}
+        if args.save:
+            _save({"styles": part})
         return 0
     if args.cmd == "strength":
         model = C.load()

@@ -179,6 +179,17 @@ def _content_chunk(root: str, specs: list):
     return "content", rows, stats, sum(c.n_frames for c in clips)
 
 
+def window_id(take: str, k: int) -> str:
+    """The clip id of a take's k-th window: `t0350_strutting_walk_w02`."""
+    return f"{take}_w{k:02d}"
+
+
+def take_of(clip_id: str) -> str:
+    """The take a style clip was cut from (`window_id` undone); an id without a window suffix is its own take."""
+    take, sep, k = clip_id.rpartition("_w")
+    return take if sep and k.isdigit() else clip_id
+
+
 def _take_chunk(root: str, specs: list):
     """Generate takes at 30 fps, write their BVH files, cut 20 fps windows, encode and write them."""
     from ..motion.bvh import write_bvh
@@ -200,7 +211,7 @@ def _take_chunk(root: str, specs: list):
                           "caption": cap, "n_frames": take.n_frames, "fps": TAKE_FPS,
                           "seed": s["seed"], "index": s["index"]})
         for k, start in enumerate(window_starts(len(registered), WINDOW, WINDOW - STRIDE)):
-            clip_id = f"{s['take']}_w{k:02d}"
+            clip_id = window_id(s["take"], k)
             windows.append(canonicalize(registered[start:start + WINDOW], floor=False))
             rows.append({"clip_id": clip_id, "split": s["split"], "style": s["style"],
                          "substyle": s["substyle"], "content": s["content"], "caption": cap,

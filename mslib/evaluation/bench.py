@@ -109,6 +109,27 @@ def evaluate(outputs, pairs, evaluator: Evaluator) -> dict:
     }
 
 
+def by_style(outputs, pairs, evaluator: Evaluator) -> list:
+    """SRA and CRA over the pairs of each style (sorted by name), with the style its outputs are read as most often."""
+    if len(outputs) != len(pairs) or not pairs:
+        raise ValueError(f"outputs: expected one per pair ({len(pairs)} pairs, at least one), got {len(outputs)}")
+    c_logits, s_logits, _ = evaluator.score(outputs)
+    read_as = np.array([evaluator.style.classes[i] for i in s_logits.argmax(1)])
+    c_read = np.array([evaluator.content.classes[i] for i in c_logits.argmax(1)])
+    styles = np.array([s["style"] for _, s in pairs])
+    contents = np.array([c["content"] for c, _ in pairs])
+    rows = []
+    for name in sorted(set(styles)):
+        mine = styles == name
+        seen, counts = np.unique(read_as[mine], return_counts=True)
+        top = int(np.argmax(counts))  # ties: the first name alphabetically
+        rows.append({"style": str(name), "n": int(mine.sum()),
+                     "sra": float(100.0 * (read_as[mine] == name).mean()),
+                     "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()),
+                     "read_as": str(seen[top]), "read_as_share": float(100.0 * counts[top] / mine.sum())})
+    return rows
+
+
 def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu", pairs=None,
               evaluator: Evaluator | None = None, progress: bool = False) -> dict:
     """Transfer every pair with `method`, time it, and score the outputs; returns the §8 JSON row."""

@@ -68,6 +68,7 @@ class ContrastiveConfig:
     beta: float = 0.3          # C Eq. 5: InfoNCE weight
     gamma: float = 0.3         # C Eq. 5: triplet weight
     margin: float = 1.0        # C Eq. 4: λ
+    style_negatives: str = "target"  # C Eq. 4's negatives: "target" (E_s(M^T), C) or "batch" (… and the other pairs' E_s(M^S))
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
     skip_adain: bool = False   # … that movement instance-normalised and rescaled by a σ G predicts from the style code
@@ -90,6 +91,8 @@ class ContrastiveConfig:
         if self.disc_real not in ("source", "both"):
             raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
         check_pairs(self.pairs)
+        if self.style_negatives not in ("target", "batch"):
+            raise ValueError(f"style_negatives: expected 'target' or 'batch', got {self.style_negatives!r}")
         if (self.skip_adain or self.skip_gain) and not self.content_skip:
             raise ValueError("skip_adain/skip_gain: need content_skip=True (they act on the content skip)")
         if self.skip_adain and self.skip_gain:
@@ -255,6 +258,18 @@ def triplet_loss(query: torch.Tensor, positive: torch.Tensor, negative: torch.Te
     return F.relu(d_pos - d_neg + margin).mean()
 
 
+def triplet_loss_batch(query: torch.Tensor, positive: torch.Tensor, negative: torch.Tensor,
+                       margin: float = 1.0) -> torch.Tensor:
+    """C Eq. 4 with more negatives: for pair i, the hinge against E_s(M^T_i) and against every other pair's
+    positive k⁺_j (j ≠ i), averaged over those B negatives and the batch; C Eq. 4 itself when B = 1. Codes (B, l)."""
+    B = query.shape[0]
+    d_pos = (query - positive).norm(dim=-1)                 # (B,)
+    d_others = torch.cdist(query, positive)                  # (B, B): ‖q_i − k⁺_j‖
+    d_neg = torch.cat([(query - negative).norm(dim=-1)[:, None],
+                       d_others[~torch.eye(B, dtype=torch.bool, device=query.device)].view(B, B - 1)], 1)  # (B, B)
+    return F.relu(d_pos[:, None] - d_neg + margin).mean()
+
+
 # ---------------------------------------------------------------- the model
 class ContrastiveModel(nn.Module):
     """E_c, E_s, G, D and the bilinear W, with C's losses and the normaliser of the training data."""
@@ -343,7 +358,8 @@ class ContrastiveModel(nn.Module):
                + reconstruction_loss(self.generate(c_t, s_t, T, target, s_t), target))
         fake = self.generate(c_t, s_s, T, target, s_t)  # M^G = G(E_c(M^T) | E_s(M^S))
         nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
-        tri = triplet_loss(self.encode_style(fake), s_s, s_t, self.cfg.margin)              # C Eq. 4
+        triplet = triplet_loss_batch if self.cfg.style_negatives == "batch" else triplet_loss
+        tri = triplet(self.encode_style(fake), s_s, s_t, self.cfg.margin)                   # C Eq. 4
         return {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
 
     def training_step(self, batch: dict) -> dict:

@@ -25,6 +25,7 @@ import numpy as np
 import torch
 
 from ..checkpoints import PACKAGE_DIR
+from ..data.corpora import take_of
 from ..data.datasets import MotionFolder
 from ..fileio import atomic_write_bytes
 from ..motion.features import BLOCKS, decode
@@ -39,10 +40,13 @@ UNSEEN = "depressed"
 
 # ---------------------------------------------------------------- held-out data
 def style_clips(style_folder, split: str = "test", with_content: bool = False) -> tuple:
-    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels (and content labels)."""
+    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels (and content labels and
+    the take each clip was cut from, for neighbour measures that must not count a window of the same take)."""
     ds = MotionFolder(style_folder, split, normalize=False, labels=("style",))
     out = [ds._arrays(i)[0] for i in range(len(ds))], np.array([r["style"] for r in ds.rows])
-    return out + (np.array([r["content"] for r in ds.rows]),) if with_content else out
+    if not with_content:
+        return out
+    return out + (np.array([r["content"] for r in ds.rows]), np.array([take_of(r["clip_id"]) for r in ds.rows]))
 
 
 def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, split: str = "val") -> list:
@@ -72,21 +76,28 @@ def silhouette_per_label(codes: np.ndarray, labels) -> dict:
     return {str(k): float(s[labels == k].mean()) for k in sorted(set(labels.tolist()))}
 
 
-def nearest_neighbour_purity(codes: np.ndarray, labels, label: str) -> float:
-    """Fraction of `label`'s codes whose nearest other code (Euclidean) has the same label."""
+def nearest_neighbour_purity(codes: np.ndarray, labels, label: str, groups=None) -> float:
+    """Fraction of `label`'s codes whose nearest other code (Euclidean) has the same label; with `groups`
+    (e.g. the recording each clip was cut from) a code's own group is not searched."""
     labels = np.asarray(labels)
-    d = ((codes[:, None] - codes[None]) ** 2).sum(-1)
-    np.fill_diagonal(d, np.inf)
     own = labels == label
-    return float((labels[d[own].argmin(1)] == label).mean())
+    return float((labels[_nearest_other(codes, groups)[own]] == label).mean())
 
 
-def nn_accuracy(codes: np.ndarray, labels) -> float:
-    """Leave-one-out 1-nearest-neighbour accuracy (Euclidean): how often a code's nearest other code shares its label."""
-    labels = np.asarray(labels)
+def _nearest_other(codes: np.ndarray, groups=None) -> np.ndarray:
+    """Index of each code's nearest other code (Euclidean), outside its own group if `groups` is given."""
     d = ((codes[:, None] - codes[None]) ** 2).sum(-1)
     np.fill_diagonal(d, np.inf)
-    return float((labels[d.argmin(1)] == labels).mean())
+    if groups is not None:
+        groups = np.asarray(groups)
+        d[groups[:, None] == groups[None]] = np.inf
+    return d.argmin(1)
+
+
+def nn_accuracy(codes: np.ndarray, labels, groups=None) -> float:
+    """Leave-one-out 1-nearest-neighbour accuracy: how often a code's nearest other code (outside its group) shares its label."""
+    labels = np.asarray(labels)
+    return float((labels[_nearest_other(codes, groups)] == labels).mean())
 
 
 def tsne_2d(codes: np.ndarray, seed: int = 0) -> np.ndarray:
@@ -151,22 +162,23 @@ def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_s
     return model.eval(), history
 
 
-def code_scores(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray) -> dict:
-    """How the style codes group: silhouette and 1-NN accuracy by style label, silhouette by content label."""
-    return {"silhouette": silhouette(codes, labels), "nn_accuracy": nn_accuracy(codes, labels),
+def code_scores(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, takes=None) -> dict:
+    """How the style codes group: silhouette and 1-NN accuracy by style label (the neighbour from another
+    take, if `takes` are given), silhouette by content label."""
+    return {"silhouette": silhouette(codes, labels), "nn_accuracy": nn_accuracy(codes, labels, takes),
             "silhouette_by_content": silhouette(codes, contents)}
 
 
-def _embedding(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, seed: int) -> dict:
+def _embedding(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, takes, seed: int) -> dict:
     """`code_scores` of the codes themselves and their 2-D t-SNE (rounded, for the JSON)."""
-    return {**code_scores(codes, labels, contents), "tsne": np.round(tsne_2d(codes, seed), 2).tolist()}
+    return {**code_scores(codes, labels, contents, takes), "tsne": np.round(tsne_2d(codes, seed), 2).tolist()}
 
 
 def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed: int = 0, n_pairs: int = 64,
                  progress: bool = True) -> dict:
     """Train the short runs and measure (a), (b), (d); returns a JSON-able dict (tables, silhouettes,
     t-SNE points of the held-out style codes, their labels)."""
-    clips, labels, contents = style_clips(style_folder, "test", with_content=True)
+    clips, labels, contents, takes = style_clips(style_folder, "test", with_content=True)
     pairs = held_out_pairs(content_folder, style_folder, n_pairs, seed)
     say = print if progress else (lambda *a, **k: None)
     results = {"command": COMMAND, "steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs),
@@ -176,20 +188,21 @@ def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed:
     for beta in BETAS:  # (b) C Table 1, γ = 0.3; β = 0.3 is also (a)'s "with"
         model, _ = short_run(content_folder, style_folder, steps, seed, beta=beta)
         codes = model.style_codes(clips)
-        row = {"beta": beta, **transfer_distances(model, pairs), **code_scores(codes, labels, contents)}
+        row = {"beta": beta, **transfer_distances(model, pairs), **code_scores(codes, labels, contents, takes)}
         results["sweep"].append(row)
         if beta == 0.3:
-            results["with"] = _embedding(codes, labels, contents, seed)
+            results["with"] = _embedding(codes, labels, contents, takes, seed)
         say(f"β={beta}: {row} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, beta=0.0, gamma=0.0)  # (a) "without"
-    results["without"] = _embedding(model.style_codes(clips), labels, contents, seed)
+    results["without"] = _embedding(model.style_codes(clips), labels, contents, takes, seed)
     say(f"without contrastive terms: silhouette {results['without']['silhouette']:.3f} ({time.time() - t0:.0f} s)")
     model, _ = short_run(content_folder, style_folder, steps, seed, exclude_styles=(UNSEEN,))  # (d)
     codes = model.style_codes(clips)
     per = silhouette_per_label(codes, labels)
-    results["unseen"] = {**_embedding(codes, labels, contents, seed), "per_style": per, "unseen_silhouette": per[UNSEEN],
-                         "unseen_nn_purity": nearest_neighbour_purity(codes, labels, UNSEEN),
-                         "chance_nn_purity": float((labels == UNSEEN).mean())}
+    results["unseen"] = {**_embedding(codes, labels, contents, takes, seed), "per_style": per, "unseen_silhouette": per[UNSEEN],
+                         "unseen_nn_purity": nearest_neighbour_purity(codes, labels, UNSEEN, takes),
+                         "chance_nn_purity": float((labels == UNSEEN).mean()),
+                         "unseen_nn_purity_any_take": nearest_neighbour_purity(codes, labels, UNSEEN)}
     results["seconds"] = round(time.time() - t0, 1)
     say(f"unseen {UNSEEN}: silhouette {per[UNSEEN]:.3f}, nn purity {results['unseen']['unseen_nn_purity']:.3f} "
         f"({results['seconds']} s)")
