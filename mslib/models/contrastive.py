@@ -26,6 +26,9 @@ sweeps it on validation pairs).
 dimension that G predicts from the style code (A Eq. 2 on the skip), so the style code must carry the
 movement's scale; on validation pairs it carries the style clip's content with it (notebook 03 §4).
 
+`style_negatives="batch"` (in neither preset) adds the other pairs' source codes to C Eq. 4's negatives, so
+E_s(M^G) must lie nearer its own source's code than any other source's, not only nearer than the target's.
+
 C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
 corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
 shows D the target clips as real too (neither is in a preset; notebook 03 §4 measures both).
