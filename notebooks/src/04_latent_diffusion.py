@@ -36,6 +36,7 @@ from mslib.motion.features import decode
 from mslib.models import vae as V
 from mslib.models import mcm_ldm as M
 from mslib.models import style_extractor as SE
+from mslib.models.contrastive_analysis import nn_accuracy
 from mslib.models.diffusion import Schedule, cfg_combine
 
 paths = load_builtin(progress=False)
@@ -200,10 +201,8 @@ win = torch.stack([vae.normalize(style_test[i]["features"]) for i in range(len(s
 emb = extractor(win)
 labels = np.array([style_test[i]["style"] for i in range(len(style_test))])
 takes = np.array([take_of(style_test[i]["clip_id"]) for i in range(len(style_test))])
-sim = emb @ emb.t() - 2 * torch.eye(len(emb))
-nn_any = float(np.mean(labels[sim.argmax(1).numpy()] == labels))
-sim[torch.as_tensor(takes[:, None] == takes[None])] = -3.0  # below any cosine: never the neighbour
-nn_acc = float(np.mean(labels[sim.argmax(1).numpy()] == labels))
+codes = emb.detach().numpy()  # unit vectors: the nearest by Euclidean distance is the nearest by cosine
+nn_acc, nn_any = nn_accuracy(codes, labels, takes), nn_accuracy(codes, labels)  # notebook 03's measure
 print(f"style of the nearest held-out clip from another take matches: {100 * nn_acc:.0f}% "
       f"(chance {100 / len(STYLES):.1f}%; {100 * nn_any:.0f}% if a window of the same take may be the neighbour)")
 
