@@ -491,6 +491,19 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
 
 
+def test_checkpoint_arguments_are_checked_before_any_loads(tmp_path, monkeypatch):
+    tool = _findings_tool()
+    loaded = []
+    monkeypatch.setattr(tool.C, "load", lambda path=None: loaded.append(path) or path)
+    (tmp_path / "run_s0.pt").write_bytes(b"")
+    got = tool.labelled_models(["course", str(tmp_path / "run_s0.pt"), f"mine={tmp_path / 'run_s0.pt'}"])
+    assert got == [("course", None), ("run_s0", str(tmp_path / "run_s0.pt")), ("mine", str(tmp_path / "run_s0.pt"))]
+    loaded.clear()
+    with pytest.raises(SystemExit, match="nope.pt: no such file"):
+        tool.labelled_models([str(tmp_path / "run_s0.pt"), f"x={tmp_path / 'nope.pt'}"])
+    assert loaded == []  # nothing loaded before every path was checked
+
+
 def test_recipe_rows_merge_by_label_and_keep_their_commands():
     tool = _findings_tool()
     saved = {"command": "old", "rows": [{"variant": "a", "h": 1}, {"variant": "course", "h": 2}]}

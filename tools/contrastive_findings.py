@@ -174,25 +174,31 @@ def ceiling(model, pairs, evaluator) -> dict:
             "adain_posture_moved_median": round(float(np.median(a_moved)), 4)}
 
 
+def labelled_models(checkpoints) -> list:
+    """(label, model) for each `course` (the packaged checkpoint), PATH (labelled by its stem) or LABEL=PATH;
+    every path is checked before any is loaded."""
+    found = [arg.rpartition("=")[::2] if "=" in arg else (Path(arg).stem, arg) for arg in checkpoints]
+    for _, ck in found:
+        if ck != "course" and not Path(ck).is_file():
+            raise SystemExit(f"checkpoint {ck}: no such file")
+    return [(label, C.load(None if ck == "course" else ck)) for label, ck in found]
+
+
 def styles(pairs, evaluator, checkpoints=()) -> list:
-    """`by_style` rows of the packaged model, the half-posture mix and each LABEL=PATH checkpoint (w = 1); for a
-    model also how often a style clip's nearest other style code (E_s, the clips of the pairs) shares its style."""
-    found = [ck.partition("=")[::2] for ck in checkpoints]
-    for label, ck in found:
-        if not label or not Path(ck).is_file():
-            raise SystemExit(f"{label}={ck}: expected LABEL=PATH of an existing checkpoint")
-    transfers = [("course model", C.load()),
-                 ("statistics, w_mean=0.5, w_std=0.0", lambda c, s: stats_mix(c, s, 0.5, 0.0)),
-                 *((label, C.load(ck)) for label, ck in found)]
+    """`by_style` rows of the packaged model, the half-posture mix and each checkpoint (`labelled_models`, w = 1);
+    for a model also how often a style clip's nearest style code from another take (E_s, the pairs' clips) shares its style."""
+    models = [("course model", C.load()), *labelled_models(checkpoints)]
+    mix = ("statistics, w_mean=0.5, w_std=0.0", None)  # no model: A Eq. 2 on the raw features, the posture halfway
     out = []
-    for label, how in transfers:
-        fn = (lambda c, s, m=how: m.transfer_features(c, s, 1.0)) if isinstance(how, C.ContrastiveModel) else how
-        feats = [fn(c["features"].astype(np.float64), s["features"].astype(np.float64)) for c, s in pairs]
+    for label, model in [models[0], mix, *models[1:]]:
+        feats = [model.transfer_features(c["features"], s["features"], 1.0) if model is not None
+                 else stats_mix(c["features"].astype(np.float64), s["features"].astype(np.float64), 0.5, 0.0)
+                 for c, s in pairs]
         rows = [{**r, **rounded({k: r[k] for k in ("sra", "cra", "read_as_share")})}
                 for r in by_style([decode(f) for f in feats], pairs, evaluator)]
-        if isinstance(how, C.ContrastiveModel):  # can its own judge, E_s, tell the style clips apart?
+        if model is not None:  # can its own judge, E_s, tell the style clips apart?
             clips = list({s["clip_id"]: s for _, s in pairs}.values())  # each style clip once
-            codes, labels = how.style_codes([s["features"] for s in clips]), [s["style"] for s in clips]
+            codes, labels = model.style_codes([s["features"] for s in clips]), [s["style"] for s in clips]
             takes = [take_of(s["clip_id"]) for s in clips]  # a neighbour from another recording, not a window of the same
             for r in rows:
                 r["es_nn_purity"] = round(100.0 * nearest_neighbour_purity(codes, labels, r["style"], takes), 4)
@@ -240,7 +246,7 @@ def main(argv=None) -> int:
     d.add_argument("checkpoints", nargs="+", help=f"checkpoints made by {COURSE_RUN} --seed N --out OUT")
     d.add_argument("--save", action="store_true")
     y = sub.add_parser("styles", help="SRA and CRA style by style: the packaged model, the half-posture mix, checkpoints")
-    y.add_argument("checkpoints", nargs="*", help="LABEL=PATH")
+    y.add_argument("checkpoints", nargs="*", help="`course`, a path, or LABEL=PATH")
     y.add_argument("--save", action="store_true")
     v = sub.add_parser("val")
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
@@ -301,11 +307,7 @@ def main(argv=None) -> int:
             _save({"strength": {"command": _command(argv), "course_strength": model.cfg.style_strength, "rows": sweep}})
         return 0
     rows = []
-    for arg in args.checkpoints:
-        label, _, ck = arg.rpartition("=") if "=" in arg else (Path(arg).stem, "", arg)
-        if ck != "course" and not Path(ck).is_file():
-            raise SystemExit(f"checkpoint {ck}: no such file")
-        model = C.load(None if ck == "course" else ck)
+    for label, model in labelled_models(args.checkpoints):
         row = {"variant": label, **rounded(score(model, pairs, evaluator, 1.0)),
                "steps": [model.cfg.pretrain_steps, model.cfg.steps], "pairs": model.cfg.pairs}
         rows.append(row)
