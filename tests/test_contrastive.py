@@ -59,6 +59,21 @@ def test_triplet_with_the_batch_as_negatives_known_answers():
         C.ContrastiveConfig.preset("course", style_negatives="all")
 
 
+def test_recording_nce_known_answers():
+    """Two recordings: views aligned with their own code score low, swapped views high; all equal: log B."""
+    codes = torch.tensor([[1.0, 0.0], [0.0, 2.0]])
+    tau = 0.5  # cosines 1 (own) and 0 (other): each row's loss is log(1 + e^(−1/τ)) in both directions
+    assert C.recording_nce(codes, 3 * codes, tau).item() == pytest.approx(math.log(1 + math.exp(-1 / tau)), rel=1e-5)
+    assert C.recording_nce(codes, codes.flip(0), tau).item() == pytest.approx(math.log(1 + math.exp(1 / tau)), rel=1e-5)
+    same = torch.ones(5, 3)
+    assert C.recording_nce(same, same).item() == pytest.approx(math.log(5), rel=1e-5)
+    with pytest.raises(ValueError, match="codes/views"):
+        C.recording_nce(codes, codes[:1])
+    for bad in (dict(style_views=-0.1), dict(style_tau=0.0)):
+        with pytest.raises(ValueError, match="style_views, style_tau"):
+            C.ContrastiveConfig.preset("course", **bad)
+
+
 def test_adversarial_and_reconstruction_known_answers():
     d, g = C.adversarial_losses(torch.zeros(4, 3), torch.zeros(4, 3))
     assert d.item() == pytest.approx(2 * math.log(2)) and g.item() == pytest.approx(math.log(2))
@@ -234,6 +249,24 @@ def test_autoencoder_steps_drop_the_contrastive_terms():
     assert logs["loss"].item() == pytest.approx((logs["rec"] + m.cfg.alpha * logs["adv"]).item(), rel=1e-5)
 
 
+def test_recording_views_train_the_style_encoder_only_while_it_trains():
+    """style_views δ adds δ·recording_nce while E_s trains (autoencoder phase) and nothing once it is frozen."""
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny(style_views=0.5))
+    batch = {k: torch.randn(4, 31, 263) for k in ("target", "source", "source_view")}
+    m.pretraining = True
+    logs = m.training_step(batch)
+    assert logs["loss"].item() == pytest.approx((logs["rec"] + m.cfg.alpha * logs["adv"] + 0.5 * logs["views"]).item(),
+                                                rel=1e-5)
+    m.pretraining = False
+    m.style_encoder.requires_grad_(False)  # phase 2: the judge is frozen, the term is logged only
+    logs = m.training_step(batch)
+    c = m.cfg
+    assert logs["loss"].item() == pytest.approx(
+        (logs["rec"] + c.alpha * logs["adv"] + c.beta * logs["nce"] + c.gamma * logs["tri"]).item(), rel=1e-5)
+    assert "views" in logs and "views" not in C.ContrastiveModel(tiny()).training_step(batch)  # δ = 0: C as written
+
+
 def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
     from mslib.data.corpora import load_builtin
     builtin = load_builtin(progress=False)
@@ -298,6 +331,43 @@ def test_paired_clips_leave_a_style_out():
     with pytest.raises(ValueError, match="exclude_styles"):
         C.PairedClips(builtin["content"], builtin["style"], "val",
                       exclude_styles=("neutral", "angry", "childlike", "depressed", "old", "proud", "sexy", "strutting"))
+
+
+def test_paired_clips_views_are_other_windows_of_the_same_recording():
+    """views=True: a style clip's view is another window of its take; a content clip's, another crop of it."""
+    from mslib.data.corpora import load_builtin, take_of
+    builtin = load_builtin(progress=False)
+    ds = C.PairedClips(builtin["content"], builtin["style"], "val", views=True)
+    n = len(ds.content_index)
+    key = lambda a: a.numpy().tobytes()  # noqa: E731
+    windows = {key(torch.from_numpy(((ds._clip(j) - ds.mean) / ds.std).astype(np.float32))): j for j in range(n, len(ds))}
+    take = lambda j: take_of(ds.style.rows[ds.style_index[j - n]]["clip_id"])  # noqa: E731
+    np.random.seed(1)
+    seen = 0
+    for i in range(80):
+        item = ds[i]
+        j = windows.get(key(item["source"]))
+        if j is None:  # a content clip: the view is a window of the same clip
+            clip = ((ds._clip(next(k for k in range(n) if _holds(ds, k, item["source"]))) - ds.mean) / ds.std)
+            assert _holds_array(clip.astype(np.float32), item["source_view"])
+            continue
+        v = windows[key(item["source_view"])]
+        assert take(v) == take(j) and (v != j or not ds.same_take[j])
+        seen += v != j
+    assert seen > 0
+    assert "source_view" not in C.PairedClips(builtin["content"], builtin["style"], "val")[0]
+
+
+def _holds_array(clip: np.ndarray, window: torch.Tensor) -> bool:
+    """Whether `window` (T, D) is a run of consecutive rows of `clip` (edge padding included)."""
+    w = window.numpy()
+    if len(clip) < len(w):
+        clip = np.concatenate([clip, np.repeat(clip[-1:], len(w) - len(clip), 0)]).astype(np.float32)
+    return any(np.array_equal(clip[s:s + len(w)], w) for s in range(len(clip) - len(w) + 1))
+
+
+def _holds(ds, k: int, window: torch.Tensor) -> bool:
+    return _holds_array(((ds._clip(k) - ds.mean) / ds.std).astype(np.float32), window)
 
 
 def test_paired_clips_draw_from_the_union_or_across_the_corpora():
@@ -487,7 +557,9 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     assert replace(cfg["course_gain"], skip_gain=False) == course and not course.skip_gain
     assert replace(cfg["course_long"], steps=course.steps) == course and cfg["course_long"].steps == 2 * course.steps
     assert replace(cfg["course_negatives"], style_negatives="target") == course and course.style_negatives == "target"
-    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain", "course_long", "course_negatives")
+    assert replace(cfg["course_views"], style_views=0.0) == course and course.style_views == 0.0
+    union = ("course", "union_short", "union_mid", "skip_adain", "course_gain", "course_long", "course_negatives",
+             "course_views")
     assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
 
 

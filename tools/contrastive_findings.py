@@ -31,6 +31,9 @@ course recipe did until it drew both from their union, C's one set X):
     course_long  `course` with the second phase twice as long (20000 steps of C Eq. 5);
     course_negatives `course` with C Eq. 4's hinge also against the other pairs' source codes in the batch
                  (`style_negatives="batch"`): E_s(M^G) must be nearer its own source's code than to any other;
+    course_views `course` with a judge trained to recognise recordings (`style_views` δ = 0.3, C's β and γ): in the
+                 autoencoder phase, InfoNCE between E_s codes of two windows of one recording, the other recordings
+                 in the batch its negatives (no labels), so the frozen E_s tells styles apart, not only what G needs;
     course       the course recipe: `union_short` with a longer second phase (the preset's steps).
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
@@ -89,6 +92,7 @@ VARIANTS = {  # overrides of the course preset
     "course_gain": dict(skip_gain=True),
     "course_long": dict(steps=20000),
     "course_negatives": dict(style_negatives="batch"),
+    "course_views": dict(style_views=0.3),
     "course": {},
 }
 

@@ -29,6 +29,10 @@ movement's scale; on validation pairs it carries the style clip's content with i
 `style_negatives="batch"` (in neither preset) adds the other pairs' source codes to C Eq. 4's negatives, so
 E_s(M^G) must lie nearer its own source's code than any other source's, not only nearer than the target's.
 
+`style_views` δ > 0 (in neither preset) adds δ·`recording_nce` while E_s trains: InfoNCE between the style codes
+of two windows of one recording, the batch's other recordings as negatives (no labels), so that the judge C Eq. 4
+freezes knows what stays the same through a recording, not only what G needs to reconstruct it.
+
 C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
 corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
 shows D the target clips as real too (neither is in a preset; notebook 03 §4 measures both).
@@ -71,6 +75,8 @@ class ContrastiveConfig:
     beta: float = 0.3          # C Eq. 5: InfoNCE weight
     gamma: float = 0.3         # C Eq. 5: triplet weight
     margin: float = 1.0        # C Eq. 4: λ
+    style_views: float = 0.0   # weight δ of InfoNCE between E_s codes of two windows of one recording, while E_s trains (not in C)
+    style_tau: float = 0.1     # … its temperature (cosine similarities)
     style_negatives: str = "target"  # C Eq. 4's negatives: "target" (E_s(M^T), C) or "batch" (… and the other pairs' E_s(M^S))
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
     content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
@@ -96,6 +102,8 @@ class ContrastiveConfig:
         check_pairs(self.pairs)
         if self.style_negatives not in ("target", "batch"):
             raise ValueError(f"style_negatives: expected 'target' or 'batch', got {self.style_negatives!r}")
+        if self.style_views < 0 or self.style_tau <= 0:
+            raise ValueError(f"style_views, style_tau: need δ ≥ 0 and τ > 0, got {self.style_views}, {self.style_tau}")
         if (self.skip_adain or self.skip_gain) and not self.content_skip:
             raise ValueError("skip_adain/skip_gain: need content_skip=True (they act on the content skip)")
         if self.skip_adain and self.skip_gain:
@@ -273,6 +281,17 @@ def triplet_loss_batch(query: torch.Tensor, positive: torch.Tensor, negative: to
     return F.relu(d_pos[:, None] - d_neg + margin).mean()
 
 
+def recording_nce(codes: torch.Tensor, views: torch.Tensor, tau: float = 0.1) -> torch.Tensor:
+    """InfoNCE between two windows of each recording (not in C): code i's positive is view i, its negatives the
+    other views in the batch, scored by cosine / τ, in both directions; codes (B, l). No labels: a recording keeps
+    its style over time, so codes that find their own recording's other window must carry what stays the same."""
+    if codes.shape != views.shape or codes.dim() != 2:
+        raise ValueError(f"codes/views: need equal (B, l) shapes, got {tuple(codes.shape)} and {tuple(views.shape)}")
+    scores = F.normalize(codes, dim=-1) @ F.normalize(views, dim=-1).T / tau  # (B, B)
+    target = torch.arange(len(codes), device=codes.device)
+    return 0.5 * (F.cross_entropy(scores, target) + F.cross_entropy(scores.T, target))
+
+
 # ---------------------------------------------------------------- the model
 class ContrastiveModel(nn.Module):
     """E_c, E_s, G, D and the bilinear W, with C's losses and the normaliser of the training data."""
@@ -350,8 +369,9 @@ class ContrastiveModel(nn.Module):
             raise ValueError(f"{name}: needs at least {max(4, self.cfg.disc_window)} frames, got {x.shape[1]}")
 
     # -- training
-    def losses(self, target: torch.Tensor, source: torch.Tensor) -> dict:
-        """Every term of C Eq. 1–5 for normalised target M^T and source M^S (B, T, D), without the D step."""
+    def losses(self, target: torch.Tensor, source: torch.Tensor, source_view: torch.Tensor | None = None) -> dict:
+        """Every term of C Eq. 1–5 for normalised target M^T and source M^S (B, T, D), without the D step;
+        with `source_view` (another window of each source's recording) also `recording_nce` as "views"."""
         self._check(target, "target")
         self._check(source, "source")
         T = target.shape[1]
@@ -363,11 +383,15 @@ class ContrastiveModel(nn.Module):
         nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
         triplet = triplet_loss_batch if self.cfg.style_negatives == "batch" else triplet_loss
         tri = triplet(self.encode_style(fake), s_s, s_t, self.cfg.margin)                   # C Eq. 4
-        return {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
+        out = {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
+        if source_view is not None:
+            out["views"] = recording_nce(s_s, self.encode_style(source_view), self.cfg.style_tau)
+        return out
 
     def training_step(self, batch: dict) -> dict:
         target, source = batch["target"], batch["source"]
-        out = self.losses(target, source)
+        views = batch.get("source_view") if self.cfg.style_views > 0 else None
+        out = self.losses(target, source, views)
         fake = out.pop("fake")
         if self.cfg.alpha > 0:  # the discriminator's step, on detached M^G (its own optimiser)
             opt = self.d_optimizer()
@@ -382,10 +406,12 @@ class ContrastiveModel(nn.Module):
         c = self.cfg
         beta, gamma = (0.0, 0.0) if self.pretraining else (c.beta, c.gamma)
         loss = out["rec"] + c.alpha * g_adv + beta * out["nce"] + gamma * out["tri"]  # C Eq. 5
+        if "views" in out and self.style_encoder.out.weight.requires_grad:  # while E_s trains (phase 1, or joint)
+            loss = loss + c.style_views * out["views"]
         return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
 
     def validation_step(self, batch: dict) -> dict:
-        out = self.losses(batch["target"], batch["source"])
+        out = self.losses(batch["target"], batch["source"], batch.get("source_view") if self.cfg.style_views > 0 else None)
         out.pop("fake")
         return {k: float(v) for k, v in out.items()}
 
@@ -428,9 +454,10 @@ def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, devic
     """Build the model and data, run the one loop; returns (model, history). `checkpoint_every` > 0 also
     saves `out` every that many phase-2 steps, so `resume=out` continues a cut run."""
     torch.manual_seed(seed)
-    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs)
+    views = cfg.style_views > 0
+    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views)
     model = ContrastiveModel(cfg, data.mean, data.std)
-    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs) if val else None
+    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views) if val else None
     # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
     tcfg = pretrain_then_freeze(model, data, replace(cfg.train_config(seed), checkpoint_every=checkpoint_every),
                                 cfg.pretrain_steps, [model.style_encoder],

@@ -5,6 +5,7 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
+from ..data.corpora import take_of
 from ..data.datasets import MotionFolder
 
 
@@ -21,11 +22,15 @@ class PairedClips(Dataset):
     (`pairs="union"`, C's one set X), or of content clip i and a random style clip (`pairs="across"`).
 
     exclude_styles: styles to leave out of both corpora (the unseen-style experiment, C Fig. 3: every
-    clip labelled with them is dropped; the labels are read only for this filter)."""
+    clip labelled with them is dropped; the labels are read only for this filter).
+    views: each item also holds "source_view", another window of the source's recording: another crop of
+    the same clip, or for a style clip (itself one window of a take) another window of its take, if the
+    split holds one (`corpora.take_of`; no label is read)."""
 
     def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
-                 exclude_styles=(), mean=None, std=None, pairs: str = "union"):
+                 exclude_styles=(), mean=None, std=None, pairs: str = "union", views: bool = False):
         self.pairs = check_pairs(pairs)
+        self.views = bool(views)
         self.content = MotionFolder(content_folder, split, normalize=False, labels=())
         style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
         drop = set(exclude_styles)
@@ -37,6 +42,10 @@ class PairedClips(Dataset):
         self.crop = int(crop)
         self.mean = self.content.mean if mean is None else np.asarray(mean, np.float32)
         self.std = self.content.std if std is None else np.asarray(std, np.float32)
+        takes: dict = {}  # take → positions in `_clip`'s numbering of its windows
+        for k, i in enumerate(keep):
+            takes.setdefault(take_of(style.rows[i]["clip_id"]), []).append(len(self.content_index) + k)
+        self.same_take = {j: [o for o in group if o != j] for group in takes.values() for j in group}
 
     def __len__(self) -> int:
         return len(self.content_index) + (len(self.style_index) if self.pairs == "union" else 0)
@@ -62,4 +71,9 @@ class PairedClips(Dataset):
             j = len(self.content_index) + np.random.randint(len(self.style_index))
         src = self._window(self._clip(j))
         norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
-        return {"target": norm(tgt), "source": norm(src)}
+        item = {"target": norm(tgt), "source": norm(src)}
+        if self.views:  # another window of the source's recording: the same clip, or another window of its take
+            others = self.same_take.get(j)
+            k = others[np.random.randint(len(others))] if others else j
+            item["source_view"] = norm(self._window(self._clip(k)))
+        return item

@@ -443,7 +443,7 @@ print("paper A against this model: SRA higher:", a_row["sra"] > course_row["sra"
 # can E_s, frozen after the autoencoder phase, tell that style's clips from the others — how often a style
 # clip's nearest style code among the pairs' style clips *cut from other takes* has the same style (§5 says
 # why not the same take). The labels are read only to score, as in C's findings below. (The picture also
-# has the two `course_negatives` runs, a recipe that comes up at the end of this section.)
+# has the runs of two recipes that come up at the end of this section, `course_negatives` and `course_views`.)
 
 # %%
 by_style = recipes["styles"]
@@ -497,9 +497,8 @@ _ = fig
 # in the batch (`style_negatives="batch"`, `triplet_loss_batch`). With $q_i = E_s(M^G_i)$,
 # $k^+_i = E_s(M^S_i)$, $k^-_i = E_s(M^T_i)$ and $d$ the Euclidean distance, over a batch of $B$ pairs:
 #
-# $$\mathcal{L}_{tri} = rac{1}{B^2}\sum_{i}\Big([d(q_i,k^+_i) - d(q_i,k^-_i) + \lambda]_+
-#   + \sum_{j 
-e i}[d(q_i,k^+_i) - d(q_i,k^+_j) + \lambda]_+\Big)$$
+# $$\mathcal{L}_{tri} = \frac{1}{B^2}\sum_{i}\Big([d(q_i,k^+_i) - d(q_i,k^-_i) + \lambda]_+
+#   + \sum_{j \ne i}[d(q_i,k^+_i) - d(q_i,k^+_j) + \lambda]_+\Big)$$
 #
 # — C Eq. 4 itself when $B = 1$. Still no labels: another source may share the style of pair $i$'s (about
 # one in eight), and the hinge then pushes a little the wrong way. The recipe `course_negatives` (the course
@@ -526,6 +525,47 @@ print(f"{missed[0]}: below the half-posture mix on both runs:",
 # negatives only help as far as the judge sees the difference, and this judge, E_s frozen after an
 # autoencoder phase, tells those styles apart only in part (its 1-NN column). What the course model would
 # need is a judge that has learned what makes a style, which C Eq. 1–2 alone do not teach it.
+
+# %% [markdown]
+# **Teaching the judge: two windows of one recording.** Without labels, what can tell E_s what a style is?
+# A recording keeps its style from start to end, while its content moves on (a later step, another arm
+# swing). So in the autoencoder phase E_s gets one more task: from a window of a recording, find another
+# window of the *same* recording among the batch's. With $z_i = E_s(M^S_i)/\lVert E_s(M^S_i)Vert$, $z'_i$
+# the same for another window of $M^S_i$'s recording (another crop of a content clip, another window of a
+# style clip's take) and a temperature $	au$:
+#
+# $$\mathcal{L}_{views} = -rac{1}{2B}\sum_{i}\Big(\lograc{e^{z_i^	op z'_i/	au}}{\sum_j e^{z_i^	op z'_j/	au}}
+#   + \lograc{e^{z_i^	op z'_i/	au}}{\sum_j e^{z_j^	op z'_i/	au}}\Big)$$
+#
+# — InfoNCE again, as C Eq. 3, but its positives are drawn *inside one recording* across time, where C Eq. 3's
+# are the same instant of two motions. It is not in C. It is added as $\delta\,\mathcal{L}_{views}$ to the
+# autoencoder phase only (`style_views` δ = 0.3, C's β and γ; `style_tau` τ = 0.1; `recording_nce`); the judge
+# is then frozen as before. The same rule as for every recipe, fixed before the runs were scored
+# (`course_views`, seeds 0 and 2). One prediction was written down with it: E_s's 1-NN column rises.
+
+# %%
+views_adopted = against_course_runs("course_views", "a judge taught by two windows of one recording")
+views_runs = ("course_views", "course_views_s2")
+es_nn = {k: np.mean([r["es_nn_purity"] for r in per_style[k].values()]) for k in ("course model", *views_runs)}
+print("E_s 1-NN among other takes, mean over styles:", {k: f"{v:.0f} %" for k, v in es_nn.items()},
+      "| above the course model's on both runs (the prediction):",
+      all(es_nn[k] > es_nn["course model"] for k in views_runs))
+for label in views_runs:
+    rows = per_style[label]
+    print(f"{label}: SRA by style", {st: round(rows[st]["sra"]) for st in names},
+          "| the two the course model reaches least, read most as:", {st: rows[st]["read_as"] for st in missed})
+print("SRA above the course model's on the two styles it reaches least, run by run:",
+      {k: {st: per_style[k][st]["sra"] > model_rows[st]["sra"] for st in missed} for k in views_runs})
+
+# %% [markdown]
+# This one passes the rule: on both seeds H is above the course recipe's run of the same seed, and on
+# average by more than the rule asks (the lines above). The gain is in the style (SRA), bought with some
+# content (CRA). The prediction held too: the judge tells styles apart more often than the autoencoder's
+# (the mean 1-NN above), without ever seeing a label. Style by style, the picture and the lines show where the
+# new judge helps and where it does not: the styles the course model reaches least are not all mended.
+# By the rule the recipe enters the course preset and the better of the two runs on val becomes the
+# packaged checkpoint; until it does, the course model loaded in this notebook is the recipe before it
+# (`tools/contrastive_findings.py train course_views OUT --seed 0` reproduces the run).
 
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
