@@ -390,7 +390,8 @@ class ContrastiveModel(nn.Module):
 
     def training_step(self, batch: dict) -> dict:
         target, source = batch["target"], batch["source"]
-        views = batch.get("source_view") if self.cfg.style_views > 0 else None
+        trains_judge = self.cfg.style_views > 0 and self.style_encoder.out.weight.requires_grad  # phase 1, or joint
+        views = batch.get("source_view") if trains_judge else None  # once E_s is frozen the term has nothing to train
         out = self.losses(target, source, views)
         fake = out.pop("fake")
         if self.cfg.alpha > 0:  # the discriminator's step, on detached M^G (its own optimiser)
@@ -406,7 +407,7 @@ class ContrastiveModel(nn.Module):
         c = self.cfg
         beta, gamma = (0.0, 0.0) if self.pretraining else (c.beta, c.gamma)
         loss = out["rec"] + c.alpha * g_adv + beta * out["nce"] + gamma * out["tri"]  # C Eq. 5
-        if "views" in out and self.style_encoder.out.weight.requires_grad:  # while E_s trains (phase 1, or joint)
+        if "views" in out:
             loss = loss + c.style_views * out["views"]
         return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
 
