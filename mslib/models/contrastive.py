@@ -412,7 +412,7 @@ class ContrastiveModel(nn.Module):
         return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
 
     def validation_step(self, batch: dict) -> dict:
-        out = self.losses(batch["target"], batch["source"], batch.get("source_view") if self.cfg.style_views > 0 else None)
+        out = self.losses(batch["target"], batch["source"], batch.get("source_view"))  # views only when δ > 0 (`train`)
         out.pop("fake")
         return {k: float(v) for k, v in out.items()}
 
