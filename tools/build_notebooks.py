@@ -47,7 +47,11 @@ def parse_percent(text: str):
 
 def build(src: Path, timeout: int = 600) -> float:
     """Write and execute one notebook; returns its run time in seconds."""
-    cells = parse_percent(src.read_text(encoding="utf-8"))
+    text = src.read_bytes().decode("utf-8")  # not read_text: it would turn a stray \r into a newline
+    bad = sorted({f"{ord(ch):#04x}" for ch in text if ord(ch) < 32 and ch != "\n"})
+    if bad:  # a form feed or tab in LaTeX is `\f` or `\t` eaten by a non-raw string
+        raise ValueError(f"{src}: control characters {bad} (a LaTeX backslash lost to an escape?)")
+    cells = parse_percent(text)
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     nb.cells = [nbformat.v4.new_markdown_cell(s) if k == "markdown" else nbformat.v4.new_code_cell(s)

@@ -3,16 +3,17 @@
     .venv/bin/python tools/contrastive_findings.py train VARIANT OUT.pt   # one training recipe
     .venv/bin/python tools/contrastive_findings.py val course OUT.pt       # H, CRA, SRA on a val draw
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
-    .venv/bin/python tools/contrastive_findings.py ceiling                 # what the evaluator reads (below)
+    .venv/bin/python tools/contrastive_findings.py ceiling [LABEL=PATH]    # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds (COURSE_RUN)
     .venv/bin/python tools/contrastive_findings.py styles [LABEL=PATH ...]  # SRA and CRA style by style
 
 `train` trains one variant of the course preset, saving OUT every 1000 second-phase steps (`--resume` continues
 a run that was cut from there). The recipes were compared at the course's earlier, shorter
 schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
-joint recipes train as many steps as those two phases together. All but `course` and the `union_…` recipes draw M^T
-from the content corpus and M^S from the style corpus (`pairs="across"`, the benchmark's direction, as the
-course recipe did until it drew both from their union, C's one set X):
+joint recipes train as many steps as those two phases together. Every recipe but `course` and `course_views` pins
+`style_views` δ = 0, as the course preset had it when they were compared (`PLAIN`). All but the `union_…`, `plain`
+and `course…` recipes draw M^T from the content corpus and M^S from the style corpus (`pairs="across"`, the
+benchmark's direction, as the course recipe did until it drew both from their union, C's one set X):
     literal      C §3, §4.1 as written but for the pairs: G sees only the two codes (`content_skip=False`),
                  E_c without the final instance norm (`content_norm=False`), C Eq. 5 from the first step;
     joint        the course sizes and content skip, C Eq. 5 from the first step;
@@ -25,16 +26,19 @@ course recipe did until it drew both from their union, C's one set X):
     skip_adain   `union_short` with the skip's movement instance-normalised and rescaled by a σ per dimension
                  that G predicts from the style code (A Eq. 2 on the skip): the style code must carry how much
                  each dimension moves, so the frozen E_s would judge the movement too, not only the posture;
-    course_gain  `course` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T)))
+    plain        the course recipe before it took up `style_views`: `union_short` with a longer second phase
+                 (the preset's steps);
+    course_gain  `plain` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T)))
                  (`skip_gain`): 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A,
                  and how much a dimension moves follows the style codes' difference, not one style code;
-    course_long  `course` with the second phase twice as long (20000 steps of C Eq. 5);
-    course_negatives `course` with C Eq. 4's hinge also against the other pairs' source codes in the batch
+    course_long  `plain` with the second phase twice as long (20000 steps of C Eq. 5);
+    course_negatives `plain` with C Eq. 4's hinge also against the other pairs' source codes in the batch
                  (`style_negatives="batch"`): E_s(M^G) must be nearer its own source's code than to any other;
-    course_views `course` with a judge trained to recognise recordings (`style_views` δ = 0.3, C's β and γ): in the
+    course_views `plain` with a judge trained to recognise recordings (`style_views` δ = 0.3, C's β and γ): in the
                  autoencoder phase, InfoNCE between E_s codes of two windows of one recording, the other recordings
                  in the batch its negatives (no labels), so the frozen E_s tells styles apart, not only what G needs;
-    course       the course recipe: `union_short` with a longer second phase (the preset's steps).
+                 adopted: the course preset since (the same config as `course`);
+    course       the course recipe: the course preset as it is.
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
@@ -45,7 +49,8 @@ mean moved a fraction w_μ toward the style clip's and their movement scaled per
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
 transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
 and measures how far the posture moves toward the style clip's; paper A's course model (notebook 02) is
-scored and measured the same way, for comparison. `seeds` scores the packaged checkpoint beside the
+scored and measured the same way, for comparison (`ceiling LABEL=PATH` does it for another checkpoint and
+saves it as `ceiling_LABEL`). `seeds` scores the packaged checkpoint beside the
 course recipe trained with the other seeds (`COURSE_RUN --seed N --out OUT`), at C's transfer (w = 1, as the
 recipe rows; also at the course style strength if that is not 1): how much of a difference between two
 recipes one training run's luck can make. With `--save` each writes its part of
@@ -80,18 +85,20 @@ from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 ACROSS = dict(pairs="across")  # M^T from the content corpus, M^S from the style corpus
 SHORT = dict(pretrain_steps=2500, steps=2500)  # the schedule the recipes were compared at (autoencoder + C Eq. 5)
 JOINT_STEPS = SHORT["pretrain_steps"] + SHORT["steps"]  # C's joint training: as many steps as the two phases
+PLAIN = dict(style_views=0.0)  # every recipe compared before the course preset took up `style_views`
 VARIANTS = {  # overrides of the course preset
-    "literal": dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=JOINT_STEPS, **ACROSS),
-    "joint": dict(pretrain_steps=0, steps=JOINT_STEPS, **ACROSS),
-    "autoencoder": dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=SHORT["pretrain_steps"], **ACROSS),
-    "across": dict(**SHORT, **ACROSS),
-    "d_real_both": dict(disc_real="both", **SHORT, **ACROSS),
-    "union_short": dict(**SHORT),
-    "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"]),
-    "skip_adain": dict(skip_adain=True, **SHORT),
-    "course_gain": dict(skip_gain=True),
-    "course_long": dict(steps=20000),
-    "course_negatives": dict(style_negatives="batch"),
+    "literal": dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=JOINT_STEPS, **ACROSS, **PLAIN),
+    "joint": dict(pretrain_steps=0, steps=JOINT_STEPS, **ACROSS, **PLAIN),
+    "autoencoder": dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=SHORT["pretrain_steps"], **ACROSS, **PLAIN),
+    "across": dict(**SHORT, **ACROSS, **PLAIN),
+    "d_real_both": dict(disc_real="both", **SHORT, **ACROSS, **PLAIN),
+    "union_short": dict(**SHORT, **PLAIN),
+    "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"], **PLAIN),
+    "skip_adain": dict(skip_adain=True, **SHORT, **PLAIN),
+    "course_gain": dict(skip_gain=True, **PLAIN),
+    "course_long": dict(steps=20000, **PLAIN),
+    "course_negatives": dict(style_negatives="batch", **PLAIN),
+    "plain": dict(**PLAIN),
     "course_views": dict(style_views=0.3),
     "course": {},
 }
@@ -244,6 +251,7 @@ def main(argv=None) -> int:
     w = sub.add_parser("strength", help="the packaged checkpoint at several style strengths on the val pairs")
     w.add_argument("--save", action="store_true")
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
+    g.add_argument("checkpoint", nargs="?", default="course", help="`course` (the packaged one) or LABEL=PATH")
     g.add_argument("--save", action="store_true")
     d = sub.add_parser("seeds", help=f"the course recipe trained with other seeds ({COURSE_RUN} --seed N --out OUT), "
                                      "scored beside the packaged checkpoint at w = 1 (and the course style strength)")
@@ -267,10 +275,13 @@ def main(argv=None) -> int:
         return 0
     pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()
     if args.cmd == "ceiling":
-        part = ceiling(C.load(), pairs, evaluator)
+        if args.checkpoint != "course" and "=" not in args.checkpoint:
+            raise SystemExit(f"ceiling: expected `course` or LABEL=PATH, got {args.checkpoint!r}")
+        [(label, model)] = labelled_models([args.checkpoint])
+        part = ceiling(model, pairs, evaluator)
         print("posture moved (median):", part["posture_moved_median"])
         if args.save:
-            _save({"ceiling": {"command": _command(argv), **part}})
+            _save({"ceiling" if label == "course" else f"ceiling_{label}": {"command": _command(argv), **part}})
         return 0
     if args.cmd == "seeds":
         models, trained = {}, []

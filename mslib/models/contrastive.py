@@ -8,7 +8,7 @@ content corpus and M^S from the style corpus, the benchmark's direction); M^G = 
 Losses: C Eq. 1 reconstruction, C Eq. 2 adversarial (non-saturating form), C Eq. 3 InfoNCE with a
 bilinear score on content codes, C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
 
-Two departures from C, both in the course preset only (the `paper` preset is C as written):
+Three departures from C, all in the course preset only (the `paper` preset is C as written):
 - `content_skip=True`: G's output is added to the target's movement around its time mean, so G
   supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
   variant, `content_skip=False, content_norm=False`, scores below the course recipe on a validation
@@ -18,6 +18,10 @@ Two departures from C, both in the course preset only (the `paper` preset is C a
 - `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
   frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
   E_s can meet the triplet by moving its codes instead of G moving the style.
+- `style_views=0.3`: while E_s trains (the autoencoder phase), δ·`recording_nce`, InfoNCE between the style codes
+  of two windows of one recording, the batch's other recordings as negatives (no labels), so that the judge C Eq. 4
+  freezes knows what stays the same through a recording, not only what G needs to reconstruct it. On validation
+  pairs it lifted H on both seeds it was judged by, by a rule fixed before they were scored (notebook 03 §4).
 `style_strength` w (default 1, C's transfer) decodes E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's
 mix of two style codes with the target's own as one end (`tools/contrastive_findings.py strength`
 sweeps it on validation pairs).
@@ -28,10 +32,6 @@ movement's scale; on validation pairs it carries the style clip's content with i
 
 `style_negatives="batch"` (in neither preset) adds the other pairs' source codes to C Eq. 4's negatives, so
 E_s(M^G) must lie nearer its own source's code than any other source's, not only nearer than the target's.
-
-`style_views` δ > 0 (in neither preset) adds δ·`recording_nce` while E_s trains: InfoNCE between the style codes
-of two windows of one recording, the batch's other recordings as negatives (no labels), so that the judge C Eq. 4
-freezes knows what stays the same through a recording, not only what G needs to reconstruct it.
 
 C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
 corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
@@ -116,7 +116,7 @@ class ContrastiveConfig:
             cfg = cls()
         elif name == "course":
             cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=10000, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500)
+                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500, style_views=0.3)
         else:
             raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
         known = {f.name for f in fields(cls)}

@@ -155,8 +155,9 @@ def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_s
     """A course-sized model trained jointly, as C does, for `steps` (no validation, no checkpoint).
 
     No autoencoder phase (`pretrain_steps=0`): with E_s frozen, C Eq. 3–4 could not shape the style
-    codes whose clusters (a) and (d) measure."""
-    cfg = ContrastiveConfig.preset("course", steps=int(steps), **{"pretrain_steps": 0, **overrides})
+    codes whose clusters (a) and (d) measure. Nor the course preset's `style_views` (trained jointly it would
+    act throughout, and the findings are C's terms alone)."""
+    cfg = ContrastiveConfig.preset("course", steps=int(steps), **{"pretrain_steps": 0, "style_views": 0.0, **overrides})
     model, history = train(cfg, content_folder, style_folder, seed, progress=False,
                            exclude_styles=exclude_styles, val=False)
     return model.eval(), history

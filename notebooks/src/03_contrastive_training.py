@@ -66,6 +66,11 @@ print({k: getattr(cfg, k) for k in ("hidden", "style_dim", "down", "alpha", "bet
 # can satisfy the triplet by moving its codes rather than by G moving the style. Frozen, E_s is a fixed
 # judge, like the loss network of notebook 02. Section 4 compares the recipes on a validation draw.
 #
+# **A third departure, in the course preset only** (`style_views`): in the autoencoder phase E_s also learns,
+# without labels, to recognise two windows of one recording, so the judge it becomes knows what stays the same
+# through a recording. *Why:* the judge an autoencoder alone trains tells some styles apart poorly, and G then
+# does not make them. Section 4 builds up to it, with the loss in maths and the runs that adopted it.
+#
 # A transfer is $M^G = G\big(E_c(M^T) \,\big|\, E_s(M^S)\big)$: content from the target $M^T$, style from
 # the source $M^S$. C draws both from one set $X$; here $X$ is the union of the two corpora, so a
 # training pair is two random clips from content ∪ style corpus, 32 frames each (31 feature rows) —
@@ -158,7 +163,8 @@ print({k: round(float(v), 2) for k, v in logs.items()})
 torch.manual_seed(0)
 live_cfg = C.ContrastiveConfig.preset("course", pretrain_steps=20, steps=20, batch_size=16)
 live, live_hist = C.train(live_cfg, paths["content"], paths["style"], seed=0, progress=False, val=False)
-for phase, tr, keys in (("phase 1, autoencoder (C Eq. 1–2)", live.pretrain_history["train"], ("rec", "adv")),
+for phase, tr, keys in (("phase 1, autoencoder (C Eq. 1–2, and §4's views term)", live.pretrain_history["train"],
+                         ("rec", "adv", "views")),
                         ("phase 2, E_s frozen (C Eq. 1–5)", live_hist["train"], ("rec", "nce", "tri"))):
     print(phase)
     for k in keys:
@@ -168,10 +174,12 @@ print("E_s trainable after phase 1:", any(p.requires_grad for p in live.style_en
 # %% [markdown]
 # ## 4. The course checkpoint
 # The packaged model was trained by `OMP_NUM_THREADS=1 python -m mslib train contrastive --preset course
-# --seed SEED` (the seed is printed below). The course recipe was trained with three seeds, and the packaged run is
-# the one with the highest H on the **validation** pairs (the seed table further down). Picking the best
-# of three flatters its validation H, so its honest score is the benchmark's test draw in section 6,
-# which played no part in the choice. The history of its second phase is stored with the weights:
+# --seed SEED` (the seed is printed below). Its recipe is the last one this section comes to: the two phases
+# below, with a judge E_s that also learns, in the autoencoder phase, to recognise two windows of one recording
+# (`style_views`, the end of this section). The recipe was judged on the **validation** pairs with seeds 0 and 2,
+# and the packaged run is the one of those two with the higher H there, chosen before any test score.
+# Picking the better of two flatters its validation H, so its honest score is the benchmark's test draw in
+# section 6, which played no part in the choice. The history of its second phase is stored with the weights:
 
 # %%
 model = C.load()
@@ -185,7 +193,7 @@ _ = fig
 # %% [markdown]
 # **Which recipe?** Models of the course sizes, scored by the independent evaluator on pairs from the
 # **validation** splits (not the benchmark's test pairs), all at C's transfer ($w = 1$). The recipes were
-# compared at a shorter schedule than the course recipe's (the steps column). The first rows draw their
+# compared at a shorter schedule than the course preset's (the steps column). The first rows draw their
 # training pairs *across* the corpora — $M^T$ from the content corpus, $M^S$ from the style corpus, the
 # direction of the benchmark's transfers: C's joint training with the content skip and as C writes it
 # (`literal`: no skip, no final instance norm), each for as many steps as the two phases together; the
@@ -196,14 +204,16 @@ _ = fig
 # three seeds). `skip_adain` is `union_short` with one change to the content skip: the target's movement
 # is instance-normalised per dimension and rescaled by a σ that G predicts from the style code — A Eq. 2
 # applied to the skip — so the autoencoder must carry in the style code how much each dimension moves,
-# and the frozen E_s then judges the movement, not only the posture. `course_gain` (seeds 0 and 2) is the
-# course recipe with a milder change to the skip: the target's movement multiplied per dimension by
+# and the frozen E_s then judges the movement, not only the posture. `course_gain` (seeds 0 and 2) is
+# `plain` (below) with a milder change to the skip: the target's movement multiplied per dimension by
 # $\exp\big(A\,(E_s(M^S) - E_s(M^T))\big)$, $A$ a learned matrix that starts at zero. The gain is 1
 # whenever the two codes agree, so reconstruction never trains $A$ — only C Eq. 2–4 in the second phase
 # do — and the movement's scale follows the *difference* of two style codes, not one code that must
-# also describe the clip. `course_long` (seeds 0 and 2) is the course recipe with its second phase twice as
-# long, 20000 steps. The last row is the course recipe:
-# `union_short` with its second phase four times as long (seed 0, like every row without a seed suffix).
+# also describe the clip. `course_long` (seeds 0 and 2) is `plain` with its second phase twice as
+# long, 20000 steps. `plain` itself is `union_short` with its second phase four times as
+# long (seed 0, like every row without a seed suffix), the course preset until the end of this section.
+# The recipes after it each change one thing of `plain` (seeds 0 and 2); the last, `course_views`, is the
+# course preset now, and its seed-0 run is the packaged checkpoint.
 # FMD (lower = closer to real motion) is the benchmark's realism measure.
 # "Content from style clip" is the share of transfers the content classifier names after the *style*
 # clip's content. Made by `tools/contrastive_findings.py` (its command is printed; `train VARIANT` makes
@@ -224,18 +234,18 @@ for r in recipes["rows"]:
 rec = {r["variant"]: r for r in recipes["rows"]}
 BAR_H = 0.60  # this method's bar, set on the benchmark's default (test) draw
 SEED_RUNS = {f"{name}_s{n}": name for name in ("across", "union_short", "union_mid") for n in (1, 2)}  # retrained with seeds 1, 2
-SEED_RUNS.update(course_gain_s2="course_gain", course_long_s2="course_long")  # trained with seeds 0 and 2
+SEED_RUNS.update({f"{name}_s2": name for name in ("course_gain", "course_long", "course_negatives", "course_views")})
 by = {k: r["h"] for k, r in rec.items() if k not in SEED_RUNS}  # one run per recipe (seed 0)
 runs = lambda name: np.array([by[name]] + [rec[k]["h"] for k, v in SEED_RUNS.items() if v == name])  # noqa: E731
 across_seeds, short_seeds, mid_seeds = runs("across"), runs("union_short"), runs("union_mid")
-print("course recipe above the others:", all(by["course"] > h for k, h in by.items() if k != "course"),
+print("`plain` above every recipe before it:", all(by["plain"] > by[k] for k in list(by)[:list(by).index("plain")]),
       "| autoencoder alone above joint training:", by["autoencoder"] > by["joint"],
       "| literal above joint training:", by["literal"] > by["joint"],
-      f"| any recipe at H ≥ {BAR_H:.2f}:", any(h >= BAR_H for h in by.values()))
+      f"| seed-0 runs at H ≥ {BAR_H:.2f} on val:", [k for k, h in by.items() if h >= BAR_H])
 print("highest FMD (furthest from real motion):", max(recipes["rows"], key=lambda r: r["fmd"])["variant"])
 print("D shown target clips as real, against `across`: CRA higher:", rec["d_real_both"]["cra"] > rec["across"]["cra"],
       "| SRA lower:", rec["d_real_both"]["sra"] < rec["across"]["sra"])
-for new, old, change in (("union_short", "across", "pairs from the union"), ("course", "union_short", "longer second phase")):
+for new, old, change in (("union_short", "across", "pairs from the union"), ("plain", "union_short", "longer second phase")):
     print(f"{change}, against `{old}`: " + ", ".join(f"{k} {rec[new][k] - rec[old][k]:+.1f}" for k in ("cra", "sra"))
           + f", content from style clip {rec[new]['content_from_style_clip'] - rec[old]['content_from_style_clip']:+.1f} points")
 for name, hs in (("across", across_seeds), ("union_short", short_seeds), ("union_mid", mid_seeds)):
@@ -259,11 +269,11 @@ print("movement scale from the style code (`skip_adain`) against `union_short`: 
 # transfers keep their content and lose much of their style. `union_short` draws both clips of a pair
 # from the union of the corpora, as C draws both from one set: D's real motions are then both corpora,
 # and the losses also see style-corpus clips as targets and content-corpus clips as sources. The printed
-# lines compare it with `across` (how much content comes back, and what it costs in style), and the
-# course recipe with `union_short`: the same recipe, trained longer. The seed table below says whether
+# lines compare it with `across` (how much content comes back, and what it costs in style), and `plain`
+# with `union_short`: the same recipe, trained longer. The seed table below says whether
 # each lead is more than one run's luck.
 #
-# `course_gain` is compared with the course recipe's runs of the same seeds after the seed table below.
+# `course_gain` is compared with `plain`'s runs of the same seeds after the seed table below.
 #
 # `skip_adain` tried to make the frozen judge read the movement, and failed outright. The last column
 # shows one reason: how much each dimension moves is itself content — a run swings its legs further than
@@ -293,37 +303,44 @@ print("best w on val:", best["strength"], f"(H {best['h'] - h_c:+.3f} against w 
 
 # %% [markdown]
 # **How much is one run's luck?** The draw of pairs is one source of noise; the training run is another.
-# The course recipe, trained with seeds 0, 1 and 2 (the commands are printed; the packaged checkpoint is
-# one of them, listed first) and scored on the same validation pairs
-# at C's transfer (`tools/contrastive_findings.py seeds`), beside the three runs each of `union_mid`,
-# `union_short` and `across` from the recipe table.
-# Runs of `union_short`, `union_mid` and the course recipe with the same seed share the seed and the
-# recipe; only the length of the second phase differs. Every other row of the recipe table is *one* run
+# `plain`, trained with seeds 0, 1 and 2 and scored on the same validation pairs at C's transfer
+# (`tools/contrastive_findings.py seeds`; the commands are printed, with a note: they were run while `plain` was
+# the course preset, and the run packaged then, seed 2, is listed first), beside the three runs each of
+# `union_mid`, `union_short` and `across` from the recipe table.
+# Runs of `union_short`, `union_mid` and `plain` with the same seed share the seed and the
+# recipe; only the length of the second phase differs. Most other rows of the recipe table are one or two runs
 # per recipe, so hold their differences against this spread.
 
 # %%
-seeds = recipes["seeds"]
-print(seeds["command"])
-print(f"{'seed':>5} {'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content from style clip %':>26}")
-for r in seeds["rows"]:
-    print(f"{r['seed']:>5} {r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} "
-          f"{r['content_from_style_clip']:>26.1f}")
-h_w1 = {r["seed"]: r["h"] for r in seeds["rows"] if r["strength"] == 1.0}  # seed → H at C's transfer
-course_seeds = np.array([h_w1[k] for k in sorted(h_w1)])  # seeds 0, 1, 2, as the recipe table's extra runs
+def seed_table(section: dict) -> dict:
+    """Print a seeds section of the JSON (its commands, then a row per seed and w); seed → H at C's transfer."""
+    print(section["command"])
+    if "note" in section:
+        print("note:", section["note"])
+    print(f"{'seed':>5} {'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content from style clip %':>26}")
+    for r in section["rows"]:
+        print(f"{r['seed']:>5} {r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} "
+              f"{r['content_from_style_clip']:>26.1f}")
+    return {r["seed"]: r["h"] for r in section["rows"] if r["strength"] == 1.0}
+
+
+plain_runs = recipes["plain_seeds"]
+h_w1 = seed_table(plain_runs)
+plain_seeds = np.array([h_w1[k] for k in sorted(h_w1)])  # seeds 0, 1, 2, as the recipe table's extra runs
 by_length = {rec[name]["steps"][1]: hs for name, hs in (("union_short", short_seeds), ("union_mid", mid_seeds))}
-by_length[model.cfg.steps] = course_seeds  # second-phase steps → H of seeds 0, 1, 2
-for name, hs in (("course", course_seeds), ("union_mid", mid_seeds), ("union_short", short_seeds), ("across", across_seeds)):
+by_length[rec["plain"]["steps"][1]] = plain_seeds  # second-phase steps → H of seeds 0, 1, 2
+for name, hs in (("plain", plain_seeds), ("union_mid", mid_seeds), ("union_short", short_seeds), ("across", across_seeds)):
     print(f"{name:>11}: H over {len(hs)} seeds: mean {hs.mean():.3f}, standard deviation {hs.std(ddof=1):.3f}, "
           f"range {np.ptp(hs):.3f}")
 lengths = sorted(by_length)
 for short, long in zip(lengths, lengths[1:]):
     print(f"second phase {short} → {long} steps, seed by seed: H {np.round(by_length[long] - by_length[short], 3)}")
-packaged_seed = seeds["rows"][0]["seed"]
-print(f"packaged run (seed {packaged_seed}) the best of these seeds on val (the rule it was chosen by):",
-      h_w1[packaged_seed] == course_seeds.max(), "| the recipe table's `course` row is seed 0's run:", h_w1[0] == by["course"])
+then_packaged = plain_runs["rows"][0]["seed"]
+print(f"the run packaged while `plain` was the preset (seed {then_packaged}) the best of these on val (the rule it was chosen by):",
+      h_w1[then_packaged] == plain_seeds.max(), "| the recipe table's `plain` row is seed 0's run:", h_w1[0] == by["plain"])
 print("every union_short seed above every `across` seed:", short_seeds.min() > across_seeds.max())
 for new, new_hs, old, old_hs in (("union_short", short_seeds, "across", across_seeds),
-                                 ("course", course_seeds, "union_short", short_seeds)):
+                                 ("plain", plain_seeds, "union_short", short_seeds)):
     print(f"`{new}`'s lead over `{old}` (seed means) wider than either seed range:",
           new_hs.mean() - old_hs.mean() > max(np.ptp(new_hs), np.ptp(old_hs)))
 print("`across`'s lead over joint and literal wider than its seed range:",
@@ -332,13 +349,13 @@ CANDIDATES = {"course_gain": "movement gain", "course_long": "second phase twice
 candidate_runs = lambda name: {0: rec[name], 2: rec[f"{name}_s2"]}  # noqa: E731  (each trained with seeds 0 and 2)
 
 
-def against_course_runs(name: str, what: str) -> bool:
-    """Each seed's changes against the course recipe's run of the same seed, and the rule's verdict."""
+def against_plain_runs(name: str, what: str) -> bool:
+    """Each seed's changes against `plain`'s run of the same seed, and the rule's verdict."""
     leads = []
     for seed, r in candidate_runs(name).items():
-        base = next(b for b in seeds["rows"] if b["seed"] == seed and b["strength"] == 1.0)
+        base = next(b for b in plain_runs["rows"] if b["seed"] == seed and b["strength"] == 1.0)
         leads.append(r["h"] - base["h"])
-        print(f"{what} (`{name}`), seed {seed}, against the course recipe's run: H {leads[-1]:+.3f}, "
+        print(f"{what} (`{name}`), seed {seed}, against `plain`'s run: H {leads[-1]:+.3f}, "
               + ", ".join(f"{k} {r[k] - base[k]:+.1f}" for k in ("cra", "sra", "content_from_style_clip")))
     adopted = bool(min(leads) > 0 and np.mean(leads) >= 0.02)
     print(f"`{name}` adopted (the rule fixed before it was scored: above the plain run on both seeds, mean lead ≥ 0.02):",
@@ -347,18 +364,18 @@ def against_course_runs(name: str, what: str) -> bool:
 
 
 for name, what in CANDIDATES.items():
-    against_course_runs(name, what)
+    against_plain_runs(name, what)
 fig, ax = plt.subplots(figsize=(5, 3))
 long_h = {seed: r["h"] for seed, r in candidate_runs("course_long").items()}
 long_steps = rec["course_long"]["steps"][1]
-for seed in range(len(course_seeds)):
+for seed in range(len(plain_seeds)):
     line, = ax.plot(lengths, [by_length[n][seed] for n in lengths], "o-", label=f"seed {seed}")
-    if seed in long_h:  # `course_long`: the same seed, twice the course recipe's second phase
+    if seed in long_h:  # `course_long`: the same seed, twice `plain`'s second phase
         ax.plot([lengths[-1], long_steps], [by_length[lengths[-1]][seed], long_h[seed]], "o:", color=line.get_color())
 ax.axhline(BAR_H, color="gray", ls="--", lw=1, label="the bar (on the test draw)")
 ticks = lengths + [long_steps]
 ax.set(xscale="log", xticks=ticks, xticklabels=ticks, xlabel="steps of the second phase (E_s frozen)",
-       ylabel="H on val pairs", title="course recipe, longer second phase\n(dotted: `course_long`)")
+       ylabel="H on val pairs", title="`plain`, longer second phase\n(dotted: `course_long`)")
 ax.minorticks_off()
 ax.legend(fontsize=8)
 _ = fig
@@ -378,18 +395,20 @@ _ = fig
 # (`tools/contrastive_findings.py train course_gain OUT`).
 #
 # Twice the second phase does not carry the trend on: on both seeds the longer run scores below the
-# course recipe's run of the same seed, losing both content (CRA) and style (SRA), and it moves further
+# `plain` run of the same seed, losing both content (CRA) and style (SRA), and it moves further
 # from real motion (FMD) — the printed lines give each seed's changes, the dotted lines in the picture the
-# turn. More steps of C Eq. 5 are not what the course model lacks, so by the rule fixed before these runs
+# turn. More steps of C Eq. 5 are not what `plain` lacks, so by the rule fixed before these runs
 # were scored the course preset keeps its second phase as it is
 # (`tools/contrastive_findings.py train course_long OUT` reproduces the runs).
 
 # %% [markdown]
 # **Where does the style of a transfer live?** Two checks on the same validation pairs
-# (`tools/contrastive_findings.py ceiling`). First, transfers that learn nothing: A Eq. 2 applied to the
+# (`tools/contrastive_findings.py ceiling`), made for `plain`'s run packaged while it was the preset (seed 2;
+# `git show 27342ef:mslib/checkpoints/contrastive.pt > plain_s2.pt` gives it back, and `ceiling plain=plain_s2.pt`
+# scores it). First, transfers that learn nothing: A Eq. 2 applied to the
 # raw 263-d features, partway — the target's time mean (its *posture*) moved a fraction $w_\mu$ toward
 # the style clip's, its movement around that mean scaled per dimension by
-# $(\sigma_\text{style}/\sigma_\text{target})^{w_\sigma}$. Second, the course model's transfer split into
+# $(\sigma_\text{style}/\sigma_\text{target})^{w_\sigma}$. Second, the model's transfer split into
 # its posture and the movement around it, each swapped for the target's own; and how far the posture moved
 # toward the style clip's (the projection of the change of the joints' time mean onto the line from the
 # target's to the style clip's; 0 = not at all, 1 = all the way). Paper A's course model from notebook 02,
@@ -397,32 +416,32 @@ _ = fig
 # measured the same way for comparison.
 
 # %%
-ceil = recipes["ceiling"]
-print(ceil["command"], "| style strength of the course model:", ceil["strength"])
+ceil = recipes["ceiling_plain"]  # the rows' "course model" is the model scored: here `plain`'s run
+print(ceil["command"], "| style strength of the model:", ceil["strength"])
 print(f"{'transfer':>45} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7}")
 for r in ceil["rows"]:
     print(f"{r['transfer']:>45} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f}")
 by_t = {r["transfer"]: r for r in ceil["rows"]}
-course_row = by_t["course model"]
+plain_row = by_t["course model"]
 stats_rows = [r for k, r in by_t.items() if k.startswith("statistics")]
 print("posture moved toward the style clip's (median over pairs):", ceil["posture_moved_median"])
-print("full posture swap: SRA above the course model's:", by_t["statistics, w_mean=1.0, w_std=0.0"]["sra"] > course_row["sra"],
-      "| CRA below it:", by_t["statistics, w_mean=1.0, w_std=0.0"]["cra"] < course_row["cra"])
+print("full posture swap: SRA above the model's:", by_t["statistics, w_mean=1.0, w_std=0.0"]["sra"] > plain_row["sra"],
+      "| CRA below it:", by_t["statistics, w_mean=1.0, w_std=0.0"]["cra"] < plain_row["cra"])
 identity_h = by_t["statistics, w_mean=0.0, w_std=0.0"]["h"]  # nothing moved: the identity transfer
 posture_only = by_t["course model's posture, target's movement"]["h"]
 movement_only = by_t["target's posture, course model's movement"]["h"]
-print(f"H, the model's posture on the target's movement minus the model's: {posture_only - course_row['h']:+.3f}")
+print(f"H, the model's posture on the target's movement minus the model's: {posture_only - plain_row['h']:+.3f}")
 print(f"H, the model's movement on the target's posture minus identity's: {movement_only - identity_h:+.3f}")
-print("some no-learning mix scores above the model:", any(r["h"] > course_row["h"] for r in stats_rows))
+print("some no-learning mix scores above the model:", any(r["h"] > plain_row["h"] for r in stats_rows))
 a_row = by_t["paper A course model"]
 print("paper A's posture moved (median):", ceil["adain_posture_moved_median"],
       "| further than this model's:", ceil["adain_posture_moved_median"] > ceil["posture_moved_median"],
-      "| A's H above this model's:", a_row["h"] > course_row["h"])
-print("paper A against this model: SRA higher:", a_row["sra"] > course_row["sra"], "| CRA lower:", a_row["cra"] < course_row["cra"],
-      "| FMD higher:", a_row["fmd"] > course_row["fmd"])
+      "| A's H above this model's:", a_row["h"] > plain_row["h"])
+print("paper A against this model: SRA higher:", a_row["sra"] > plain_row["sra"], "| CRA lower:", a_row["cra"] < plain_row["cra"],
+      "| FMD higher:", a_row["fmd"] > plain_row["fmd"])
 
 # %% [markdown]
-# What this says about the course model: its style lives in the **posture**. Keep its posture and give
+# What this says about `plain`'s model: its style lives in the **posture**. Keep its posture and give
 # back the target's own movement, and H barely moves (set the difference beside the standard error of an
 # accuracy printed above); keep its movement and give back the target's posture, and it falls to about
 # identity's or below (the mix with $w_\mu = w_\sigma = 0$). And the posture moves only part of the way toward the
@@ -437,24 +456,26 @@ print("paper A against this model: SRA higher:", a_row["sra"] > course_row["sra"
 
 # %% [markdown]
 # **Which styles does it reach?** The same validation pairs once more, split by the style clip's style
-# (`tools/contrastive_findings.py styles`, with `by_style` from `mslib.evaluation.bench`): each style's
+# (`tools/contrastive_findings.py styles`, with `by_style` from `mslib.evaluation.bench`): for `plain`'s
+# run that was packaged while it was the preset (seed 2), each style's
 # SRA and CRA, and the style its transfers are read as most often, beside the no-learning mix that moves
 # only the posture, halfway ($w_\mu = 0.5$, $w_\sigma = 0$). One more column asks the model's own judge:
 # can E_s, frozen after the autoencoder phase, tell that style's clips from the others — how often a style
 # clip's nearest style code among the pairs' style clips *cut from other takes* has the same style (§5 says
 # why not the same take). The labels are read only to score, as in C's findings below. (The picture also
-# has the runs of two recipes that come up at the end of this section, `course_negatives` and `course_views`.)
+# has the runs of the two recipes that come up at the end of this section, `course_negatives` and
+# `course_views`; the packaged course model is `course_views`'s seed-0 run.)
 
 # %%
 by_style = recipes["styles"]
 per_style = {t["transfer"]: {r["style"]: r for r in t["rows"]} for t in by_style["transfers"]}
-model_rows, mix_rows = per_style["course model"], per_style["statistics, w_mean=0.5, w_std=0.0"]
+model_rows, mix_rows = per_style["plain"], per_style["statistics, w_mean=0.5, w_std=0.0"]
 print(by_style["command"])
-print(f"{'style':>10} {'pairs':>5} | course model: {'SRA':>4} {'CRA':>4} {'read most as':>13} {'E_s 1-NN':>8}"
+print(f"{'style':>10} {'pairs':>5} | `plain`, seed 2: {'SRA':>4} {'CRA':>4} {'read most as':>13} {'E_s 1-NN':>8}"
       f" | half-posture mix: {'SRA':>4} {'CRA':>4}")
 for st, r in model_rows.items():
     m = mix_rows[st]
-    print(f"{st:>10} {r['n']:>5} | {r['sra']:>18.0f} {r['cra']:>4.0f} {r['read_as']:>13} {r['es_nn_purity']:>8.0f}"
+    print(f"{st:>10} {r['n']:>5} | {r['sra']:>20.0f} {r['cra']:>4.0f} {r['read_as']:>13} {r['es_nn_purity']:>8.0f}"
           f" | {m['sra']:>22.0f} {m['cra']:>4.0f}")
 n_min = min(r["n"] for r in model_rows.values())
 print(f"one standard error of an accuracy near 50 % on {n_min} transfers: ±{100 * (0.25 / n_min) ** 0.5:.0f} points")
@@ -470,7 +491,8 @@ print(f"C Eq. 4 at the end of the packaged run (mean of its last 50 logged value
 fig, ax = plt.subplots(figsize=(8, 3))
 names = list(model_rows)
 width = 0.8 / len(per_style)
-shown_as = {"statistics, w_mean=0.5, w_std=0.0": "half-posture mix (no learning)"}
+shown_as = {"statistics, w_mean=0.5, w_std=0.0": "half-posture mix (no learning)",
+            "course model": "course model (course_views, seed 0)", "plain": "plain (seed 2)"}
 for k, (label, rows) in enumerate(per_style.items()):
     ax.bar(np.arange(len(names)) + (k - (len(per_style) - 1) / 2) * width, [rows[st]["sra"] for st in names],
            width=width, label=shown_as.get(label, label))
@@ -481,15 +503,15 @@ fig.tight_layout()
 _ = fig
 
 # %% [markdown]
-# The model's SRA is far from even. Some styles it reaches more often than the no-learning mix; the two
+# `plain`'s SRA is far from even. Some styles it reaches more often than the no-learning mix; the two
 # it reaches least, it turns into another style (the printed "read most as"). The half-posture mix
 # reaches both of those far more often, so the evaluator needs no new movement to see them — the posture
 # would do, if it were the *right* posture. And the model's own judge tells those styles' clips from
 # the rest well above chance. So the difference is visible to E_s, and G does not make it. C Eq. 4 does
 # not ask it to: its hinge wants E_s(M^G) nearer the source's code than the *target's*, by the margin,
 # and says nothing about the codes of other styles — the posture of a neighbouring style, far enough from
-# the target, already satisfies it (at the end of training the hinge's mean is a small fraction of its
-# margin, printed above).
+# the target, already satisfies it (at the end of the packaged run's training the hinge's mean is a small
+# fraction of its margin, printed above).
 
 # %% [markdown]
 # **Asking for more: every other source as a negative.** A direct test of that reading keeps C Eq. 4's
@@ -501,41 +523,41 @@ _ = fig
 #   + \sum_{j \ne i}[d(q_i,k^+_i) - d(q_i,k^+_j) + \lambda]_+\Big)$$
 #
 # — C Eq. 4 itself when $B = 1$. Still no labels: another source may share the style of pair $i$'s (about
-# one in eight), and the hinge then pushes a little the wrong way. The recipe `course_negatives` (the course
-# recipe with this term, seeds 0 and 2) was judged by the same rule, fixed before it was scored:
+# one in eight), and the hinge then pushes a little the wrong way. The recipe `course_negatives` (`plain`
+# with this term, seeds 0 and 2) was judged by the same rule, fixed before it was scored:
 
 # %%
-negatives_adopted = against_course_runs("course_negatives", "the other sources as negatives")
+negatives_adopted = against_plain_runs("course_negatives", "the other sources as negatives")
 for label in ("course_negatives", "course_negatives_s2"):
     rows = per_style[label]
     print(f"{label}: SRA by style", {st: round(rows[st]["sra"]) for st in names},
-          "| the two the course model reaches least, read most as:", {st: rows[st]["read_as"] for st in missed})
+          "| the two `plain` reaches least, read most as:", {st: rows[st]["read_as"] for st in missed})
 print(f"{missed[0]}: below the half-posture mix on both runs:",
       all(per_style[k][missed[0]]["sra"] < mix_rows[missed[0]]["sra"] for k in ("course_negatives", "course_negatives_s2")),
       "| read most as the same other style on both:",
-      len({per_style[k][missed[0]]["read_as"] for k in ("course_negatives", "course_negatives_s2", "course model")}) == 1)
+      len({per_style[k][missed[0]]["read_as"] for k in ("course_negatives", "course_negatives_s2", "plain")}) == 1)
 
 # %% [markdown]
-# It does not pay. On both seeds H ends below the course recipe's run of the same seed, with less content
+# It does not pay. On both seeds H ends below `plain`'s run of the same seed, with less content
 # (CRA) and no more style (SRA), so by the rule it stays out of the preset (an option of
 # `ContrastiveConfig` for students who want to try it; `tools/contrastive_findings.py train course_negatives
-# OUT` reproduces a run). Nor does it mend the styles it was aimed at: the one the course model reaches
+# OUT` reproduces a run). Nor does it mend the styles it was aimed at: the one `plain` reaches
 # least stays far below the half-posture mix on both runs, still read mostly as the same other style, and
 # the second moves on one run only (the lines above and the picture). More
 # negatives only help as far as the judge sees the difference, and this judge, E_s frozen after an
-# autoencoder phase, tells those styles apart only in part (its 1-NN column). What the course model would
+# autoencoder phase, tells those styles apart only in part (its 1-NN column). What `plain` would
 # need is a judge that has learned what makes a style, which C Eq. 1–2 alone do not teach it.
 
 # %% [markdown]
 # **Teaching the judge: two windows of one recording.** Without labels, what can tell E_s what a style is?
 # A recording keeps its style from start to end, while its content moves on (a later step, another arm
 # swing). So in the autoencoder phase E_s gets one more task: from a window of a recording, find another
-# window of the *same* recording among the batch's. With $z_i = E_s(M^S_i)/\lVert E_s(M^S_i)Vert$, $z'_i$
+# window of the *same* recording among the batch's. With $z_i = E_s(M^S_i)/\lVert E_s(M^S_i)\rVert$, $z'_i$
 # the same for another window of $M^S_i$'s recording (another crop of a content clip, another window of a
-# style clip's take) and a temperature $	au$:
+# style clip's take) and a temperature $\tau$:
 #
-# $$\mathcal{L}_{views} = -rac{1}{2B}\sum_{i}\Big(\lograc{e^{z_i^	op z'_i/	au}}{\sum_j e^{z_i^	op z'_j/	au}}
-#   + \lograc{e^{z_i^	op z'_i/	au}}{\sum_j e^{z_j^	op z'_i/	au}}\Big)$$
+# $$\mathcal{L}_{views} = -\frac{1}{2B}\sum_{i}\Big(\log\frac{e^{z_i^\top z'_i/\tau}}{\sum_j e^{z_i^\top z'_j/\tau}}
+#   + \log\frac{e^{z_i^\top z'_i/\tau}}{\sum_j e^{z_j^\top z'_i/\tau}}\Big)$$
 #
 # — InfoNCE again, as C Eq. 3, but its positives are drawn *inside one recording* across time, where C Eq. 3's
 # are the same instant of two motions. It is not in C. It is added as $\delta\,\mathcal{L}_{views}$ to the
@@ -544,28 +566,68 @@ print(f"{missed[0]}: below the half-posture mix on both runs:",
 # (`course_views`, seeds 0 and 2). One prediction was written down with it: E_s's 1-NN column rises.
 
 # %%
-views_adopted = against_course_runs("course_views", "a judge taught by two windows of one recording")
-views_runs = ("course_views", "course_views_s2")
-es_nn = {k: np.mean([r["es_nn_purity"] for r in per_style[k].values()]) for k in ("course model", *views_runs)}
+views_adopted = against_plain_runs("course_views", "a judge taught by two windows of one recording")
+views_runs = ("course model", "course_views_s2")  # the packaged course model is `course_views`'s seed-0 run
+es_nn = {k: np.mean([r["es_nn_purity"] for r in per_style[k].values()]) for k in ("plain", *views_runs)}
 print("E_s 1-NN among other takes, mean over styles:", {k: f"{v:.0f} %" for k, v in es_nn.items()},
-      "| above the course model's on both runs (the prediction):",
-      all(es_nn[k] > es_nn["course model"] for k in views_runs))
+      "| above `plain`'s on both runs (the prediction):", all(es_nn[k] > es_nn["plain"] for k in views_runs))
 for label in views_runs:
     rows = per_style[label]
     print(f"{label}: SRA by style", {st: round(rows[st]["sra"]) for st in names},
-          "| the two the course model reaches least, read most as:", {st: rows[st]["read_as"] for st in missed})
-print("SRA above the course model's on the two styles it reaches least, run by run:",
+          "| the two `plain` reaches least, read most as:", {st: rows[st]["read_as"] for st in missed})
+print("SRA above `plain`'s on the two styles it reaches least, run by run:",
       {k: {st: per_style[k][st]["sra"] > model_rows[st]["sra"] for st in missed} for k in views_runs})
 
 # %% [markdown]
-# This one passes the rule: on both seeds H is above the course recipe's run of the same seed, and on
+# This one passes the rule: on both seeds H is above `plain`'s run of the same seed, and on
 # average by more than the rule asks (the lines above). The gain is in the style (SRA), bought with some
 # content (CRA). The prediction held too: the judge tells styles apart more often than the autoencoder's
 # (the mean 1-NN above), without ever seeing a label. Style by style, the picture and the lines show where the
-# new judge helps and where it does not: the styles the course model reaches least are not all mended.
-# By the rule the recipe enters the course preset and the better of the two runs on val becomes the
-# packaged checkpoint; until it does, the course model loaded in this notebook is the recipe before it
-# (`tools/contrastive_findings.py train course_views OUT --seed 0` reproduces the run).
+# new judge helps and where it does not: the styles `plain` reaches least are not all mended.
+# By the rule the recipe entered the course preset (`style_views=0.3` in `ContrastiveConfig.preset("course")`),
+# and the better of its two runs on val, seed 0, chosen before any test score, is the packaged checkpoint this
+# notebook loads. Two checks were made after that choice. The recipe was trained with a third seed, 1, and all
+# three scored as `plain`'s were (`tools/contrastive_findings.py seeds`). And the packaged model was split into
+# posture and movement as `plain`'s was above (`tools/contrastive_findings.py ceiling`):
+
+# %%
+course_runs = recipes["seeds"]
+h_course = seed_table(course_runs)
+course_seeds = np.array([h_course[k] for k in sorted(h_course)])
+for name, hs in (("course", course_seeds), ("plain", plain_seeds)):
+    print(f"{name:>7}: H over {len(hs)} seeds: mean {hs.mean():.3f}, standard deviation {hs.std(ddof=1):.3f}, "
+          f"range {np.ptp(hs):.3f}")
+print("each seed above `plain`'s run of the same seed:", {k: bool(h_course[k] > h_w1[k]) for k in sorted(h_course)},
+      "| every seed above every `plain` seed:", course_seeds.min() > plain_seeds.max())
+lead = course_seeds.mean() - plain_seeds.mean()
+print(f"lead of the seed means {lead:+.3f}; wider than either seed range:", lead > max(np.ptp(course_seeds), np.ptp(plain_seeds)))
+packaged_seed = course_runs["rows"][0]["seed"]
+print(f"packaged run (seed {packaged_seed}) the best of the three on val:", h_course[packaged_seed] == course_seeds.max())
+now = {r["transfer"]: r for r in recipes["ceiling"]["rows"]}
+now_row = now["course model"]
+print("posture moved toward the style clip's (median): `plain`", ceil["posture_moved_median"],
+      "→ course model", recipes["ceiling"]["posture_moved_median"])
+its_posture, its_movement = now["course model's posture, target's movement"], now["target's posture, course model's movement"]
+print(f"course model, H of its posture on the target's movement minus its own: {its_posture['h'] - now_row['h']:+.3f}")
+print(f"course model, H of its movement on the target's posture minus identity's: {its_movement['h'] - identity_h:+.3f}")
+print("course model above every no-learning mix and paper A's model:",
+      all(now_row["h"] > r["h"] for k, r in now.items() if k.startswith("statistics") or k == "paper A course model"),
+      "| its FMD above that of `plain`'s run packaged before:", now_row["fmd"] > plain_row["fmd"])
+
+# %% [markdown]
+# Over three seeds the new recipe lies above `plain` run for run, and every one of its runs lies above every
+# run of `plain`. The lead of the means is not wider than the new recipe's own seed range, though (the lines
+# above): three runs a recipe show the direction more surely than the size. Seed 1, trained after the
+# packaged run was chosen, scores higher on val than the packaged run. The choice stands: it was fixed by the
+# rule before seed 1 existed, and by then the packaged run's test score was known, so switching now would let
+# the test draw decide when to stop looking.
+#
+# The new model's style still lives in the posture. Keep its posture on the target's movement, and H moves
+# by little; its movement alone is worth about identity. What the new judge changed is *which* posture: it
+# moves a little further toward the style clip's (the medians above), and reaches the right style more often
+# (the style-by-style lines). Changing the movement itself, the last point of the ceiling paragraph, is
+# still out of reach of C's terms as trained here. And the gain has a price in realism: the FMD of its
+# transfers is above that of `plain`'s run packaged before.
 
 # %%
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
@@ -590,7 +652,8 @@ HTML(viz.animation_html([shown[0][0]["joints"], shown[0][1]["joints"], outs[0]],
 # The findings need several models trained the same way with one setting changed: four runs for the
 # β sweep (β = 0.3 is also the "with" run of (a)), one without the contrastive terms, one with a style
 # left out — six short runs of the course model, each trained **jointly**, as C does: with E_s frozen,
-# the contrastive terms could not shape the style codes these findings look at. They take about ten CPU minutes, too long for a
+# the contrastive terms could not shape the style codes these findings look at. They leave out the course
+# preset's `style_views` (§4), so what shapes their codes is C's terms alone. They take about ten CPU minutes, too long for a
 # notebook, so they were made once by the command
 #
 #     python -m mslib.models.contrastive_analysis
@@ -637,7 +700,8 @@ print("C Fig. 2's claim (silhouette with > without):", results["with"]["silhouet
 # often a window of the *same take*, a near copy that says nothing about style: the neighbour is
 # searched among the clips of the other takes only.
 # The same scores for the packaged course model, computed here. Its E_s was trained in the autoencoder
-# phase only, so its codes show what C Eq. 1–2 alone make of the style:
+# phase only — C Eq. 1–2 and §4's two windows of one recording, never C Eq. 3–4 — so its codes show what that
+# judge makes of the style:
 
 # %%
 clips_test, labels_test, contents_test, takes_test = CA.style_clips(paths["style"], "test", with_content=True)
@@ -729,7 +793,8 @@ print(f"bar met (H ≥ {BAR_H:.2f} and above both references):",
 # Where does the content go? For each transfer, ask the content classifier what it sees, and count how
 # often it names the **style clip's** content instead of the content clip's. The style code is a time
 # average of the whole style clip, so it also carries that clip's average pose — a punch's raised arm,
-# a kick's lifted leg — and nothing in C Eq. 1–5 tells E_s to leave it out.
+# a kick's lifted leg — and nothing in C Eq. 1–5 tells E_s to leave it out. Nor does §4's views term: two
+# crops of one content clip share their content as well as their style.
 
 # %%
 outs_all = [np.asarray(decode(model.transfer_features(c["features"], s["features"]))) for c, s in pairs]
