@@ -1,21 +1,33 @@
 """The notebooks' sources and saved notebooks hold no control characters (a LaTeX `\\frac` or `\\tau` typed
 into a non-raw Python string loses its backslash to a form feed or a tab, and the equation renders broken)."""
+import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
 
 
-def control_characters(text: str) -> list:
-    """Line numbers (1-based) of lines holding a control character other than the newline."""
-    return [i for i, line in enumerate(text.split("\n"), 1) if any(ord(ch) < 32 for ch in line)]
+def _build_tool():
+    """tools/build_notebooks.py, imported by path (tools/ is not a package)."""
+    spec = importlib.util.spec_from_file_location("build_notebooks", ROOT / "tools" / "build_notebooks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def test_control_characters_are_found():
+control_characters = _build_tool().control_characters
+
+
+def test_control_characters_are_found_and_the_build_refuses_them(tmp_path):
     assert control_characters("a\n\\frac{1}{2}\n") == []
     assert control_characters("a\n\x0crac{1}{2}\n\tau\r") == [2, 3]
+    src = tmp_path / "99_broken.py"
+    src.write_bytes("# %% [markdown]\n# $\\lVert x\rVert$\n".encode())
+    with pytest.raises(ValueError, match=r"99_broken.py: control characters on lines \[2\]"):
+        _build_tool().build(src)
 
 
 @pytest.mark.parametrize("src", sorted((NOTEBOOKS / "src").glob("*.py")), ids=lambda p: p.name)

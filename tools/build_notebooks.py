@@ -45,12 +45,18 @@ def parse_percent(text: str):
     return cells
 
 
+def control_characters(text: str) -> list:
+    """Line numbers (1-based) of lines holding a control character other than the newline: a LaTeX `\\frac` or
+    `\\tau` typed into a non-raw Python string loses its backslash to a form feed or a tab."""
+    return [i for i, line in enumerate(text.split("\n"), 1) if any(ord(ch) < 32 for ch in line)]
+
+
 def build(src: Path, timeout: int = 600) -> float:
     """Write and execute one notebook; returns its run time in seconds."""
     text = src.read_bytes().decode("utf-8")  # not read_text: it would turn a stray \r into a newline
-    bad = sorted({f"{ord(ch):#04x}" for ch in text if ord(ch) < 32 and ch != "\n"})
-    if bad:  # a form feed or tab in LaTeX is `\f` or `\t` eaten by a non-raw string
-        raise ValueError(f"{src}: control characters {bad} (a LaTeX backslash lost to an escape?)")
+    bad = control_characters(text)
+    if bad:
+        raise ValueError(f"{src}: control characters on lines {bad} (a LaTeX backslash lost to an escape?)")
     cells = parse_percent(text)
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
