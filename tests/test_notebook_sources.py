@@ -18,7 +18,8 @@ def _build_tool():
     return module
 
 
-control_characters = _build_tool().control_characters
+BUILD = _build_tool()
+control_characters = BUILD.control_characters
 
 
 def test_control_characters_are_found_and_the_build_refuses_them(tmp_path):
@@ -27,7 +28,7 @@ def test_control_characters_are_found_and_the_build_refuses_them(tmp_path):
     src = tmp_path / "99_broken.py"
     src.write_bytes("# %% [markdown]\n# $\\lVert x\rVert$\n".encode())
     with pytest.raises(ValueError, match=r"99_broken.py: control characters on lines \[2\]"):
-        _build_tool().build(src)
+        BUILD.build(src)
 
 
 @pytest.mark.parametrize("src", sorted((NOTEBOOKS / "src").glob("*.py")), ids=lambda p: p.name)
