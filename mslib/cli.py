@@ -91,26 +91,13 @@ def _train_classifier(kind):
     return run
 
 
-# Model modules add trainers by defining TRAINABLE = {name: run}, where
-#   run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True)
-# trains on the dataset folders `content`/`style`, writes the checkpoint (default: the packaged course
-# one) and returns a JSON-able summary dict.
-TRAINER_MODULES = ("mslib.models.adain", "mslib.models.dsdn", "mslib.models.contrastive",
-                   "mslib.models.vae", "mslib.models.text", "mslib.models.mcm_ldm",
-                   "mslib.models.clusterstyle")
-
-
 def trainers() -> dict:
-    """Every trainable model name → its run function (importing the model modules that exist)."""
-    import importlib
-    found = {"evaluator_content": _train_classifier("content"), "evaluator_style": _train_classifier("style")}
-    for mod in TRAINER_MODULES:
-        try:
-            found.update(getattr(importlib.import_module(mod), "TRAINABLE", {}))
-        except ModuleNotFoundError as e:
-            if e.name != mod:
-                raise
-    return found
+    """Every trainable model name → its run function: the two evaluators and the model packages' TRAINERS
+    (`mslib.models.registry`), each run(preset, content, style, seed=0, out=None, device="cpu", steps=None,
+    resume=None, progress=True) → a JSON-able summary."""
+    from .models.registry import trainers as model_trainers
+    return {"evaluator_content": _train_classifier("content"), "evaluator_style": _train_classifier("style"),
+            **model_trainers()}
 
 
 def _train(args) -> int:

@@ -1,11 +1,13 @@
 """Notebook set-up: one call in each notebook's first cell makes its outputs stable for nbval."""
 from __future__ import annotations
 
+import json
 import random
 import sys
 import warnings
 
 import numpy as np
+from pathlib import Path
 
 FIGURE_DPI = 72
 
@@ -37,3 +39,17 @@ def setup_notebook(seed: int = 0) -> None:
             return None
         set_matplotlib_formats("png")
     return None
+
+
+FINDINGS_DIR = Path(__file__).resolve().parent.parent / "notebooks" / "data"
+
+
+def load_findings(name: str, required: bool = True) -> dict:
+    """The stored results `notebooks/data/<name>.json` of a tool in `tools/` (they are too slow for a notebook);
+    a missing file is a ValueError naming it (or `{}` with `required=False`)."""
+    path = FINDINGS_DIR / f"{name}.json"
+    if not path.is_file():
+        if not required:
+            return {}
+        raise ValueError(f"{path}: no stored findings; the tool that writes them is named in the notebook")
+    return json.loads(path.read_text())

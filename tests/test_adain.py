@@ -6,12 +6,13 @@ import torch
 
 from mslib.checkpoints import course_path
 from mslib.models import adain as A
+from mslib.models.common.layers import adain, channel_stats
 from mslib.motion.features import decode, encode
 from mslib.training import TrainConfig
 
-TINY = A.AdainConfig(hidden=16, content_blocks=1, decoder_blocks=1, style_layers=1, heads=2, clip_frames=24,
-                     pretrain_steps=10)
-TINY_SEPARATE = A.AdainConfig(**{**A.asdict(TINY), "shared_encoder": False, "pretrain_steps": 0})
+TINY = A.AdainConfig.preset("course", hidden=16, content_blocks=1, decoder_blocks=1, style_layers=1, heads=2,
+                            clip_frames=24, pretrain_steps=10)
+TINY_SEPARATE = A.AdainConfig.from_dict({**TINY.to_dict(), "shared_encoder": False, "pretrain_steps": 0})
 
 
 def _model(seed=0, cfg=TINY):
@@ -51,10 +52,10 @@ def test_adain_switches_move_the_stylized_code_statistics(cfg):
     s = torch.randn(2, 31, 263)
     code = m.content_code(x)
     mu_s, sig_s = m.style_stats(s)
-    mu_c, sig_c = A.channel_stats(code)
+    mu_c, sig_c = channel_stats(code)
     for use_mean, use_std, want_mu, want_sig in ((True, True, mu_s, sig_s), (True, False, mu_s, sig_c),
                                                  (False, True, mu_c, sig_s)):
-        got_mu, got_sig = A.channel_stats(A.adain(code, mu_s, sig_s, use_mean=use_mean, use_std=use_std))
+        got_mu, got_sig = channel_stats(adain(code, mu_s, sig_s, use_mean=use_mean, use_std=use_std))
         assert torch.allclose(got_mu, want_mu, atol=1e-4) and torch.allclose(got_sig, want_sig, atol=1e-3)
     full = m(x, s)
     mean_only = m(x, s, use_std=False)
@@ -66,7 +67,7 @@ def test_shared_encoder_reads_style_statistics_in_the_content_code_space():
     assert m.style_encoder is None
     f = torch.as_tensor(_features(30), dtype=torch.float32)[None]
     mu, sig = m.style_stats(f)
-    want_mu, want_sig = A.channel_stats(m.content_code(m.normalize(f)))  # the same channels AdaIN moves
+    want_mu, want_sig = channel_stats(m.content_code(m.normalize(f)))  # the same channels AdaIN moves
     assert torch.allclose(mu, want_mu) and torch.allclose(sig, want_sig)
     # a motion with its own statistics is (up to AdaIN's ε) the plain autoencoder: AdaIN is the identity
     x = m.normalize(f)
@@ -74,16 +75,26 @@ def test_shared_encoder_reads_style_statistics_in_the_content_code_space():
     plain = m.denormalize(m.decoder(m.content_code(x)))
     assert torch.allclose(own[..., 4:], plain[..., 4:], atol=1e-3)
     separate = _model(cfg=TINY_SEPARATE)
-    assert isinstance(separate.style_encoder, A.StyleEncoder)
+    assert isinstance(separate.style_encoder, A.model.StyleEncoder)
     # separate E_s: the content code ignores the content's mean over time (its level comes from AdaIN)
     assert torch.allclose(separate.content_code(x + 1.0), separate.content_code(x), atol=1e-5)
 
 
-def test_a_stored_config_from_before_the_shared_encoder_builds_a_separate_style_encoder():
-    old = {k: v for k, v in A.asdict(TINY).items() if k not in ("shared_encoder", "pretrain_steps")}
-    m = A.AdainTransfer(old)
-    assert m.cfg.shared_encoder is False and isinstance(m.style_encoder, A.StyleEncoder)
-    assert A.AdainTransfer(A.asdict(TINY)).style_encoder is None  # a config that says so is kept
+def test_config_presets_and_stored_configs():
+    assert A.AdainConfig() == A.AdainConfig.preset("paper")  # the defaults are A's
+    course = A.AdainConfig.preset("course")
+    assert course.shared_encoder and course.hidden == 64 and not A.AdainConfig().shared_encoder
+    assert A.AdainConfig.preset("course", hidden=8).hidden == 8
+    assert A.AdainTransfer(TINY.to_dict()).style_encoder is None  # a stored config builds the same model
+    assert isinstance(A.AdainTransfer(TINY_SEPARATE.to_dict()).style_encoder, A.model.StyleEncoder)
+    with pytest.raises(ValueError, match="hiden"):
+        A.AdainConfig.preset("course", hiden=8)
+    with pytest.raises(ValueError, match="preset"):
+        A.AdainConfig.preset("laptop")
+    # a retired research option loads when it holds the value the library always uses, else is refused
+    assert A.AdainTransfer({**TINY.to_dict(), "content_skip": False}).cfg == TINY
+    with pytest.raises(ValueError, match="content_skip"):
+        A.AdainTransfer({**TINY.to_dict(), "content_skip": True})
 
 
 def test_pretraining_optimises_reconstruction_only():
@@ -104,7 +115,7 @@ def test_losses_are_the_two_paths():
     assert torch.isclose(logs["loss"], TINY.lambda_style * logs["style"]
                          + TINY.lambda_content * 0.5 * (logs["content"] + logs["style_rec"]))
     torch.manual_seed(0)
-    plain = A.AdainTransfer(A.AdainConfig(**{**A.asdict(TINY), "style_recon": False}), np.zeros(263), np.ones(263))
+    plain = A.AdainTransfer(A.AdainConfig.from_dict({**TINY.to_dict(), "style_recon": False}), np.zeros(263), np.ones(263))
     p_logs = plain.losses(batch)
     assert set(p_logs) == {"loss", "content", "style"}
     assert torch.isclose(p_logs["loss"], TINY.lambda_style * p_logs["style"] + TINY.lambda_content * p_logs["content"])
@@ -127,7 +138,7 @@ def test_tiny_training_lowers_both_losses(tmp_path):
     p = load_builtin(progress=False)
     tcfg = TrainConfig(steps=30, batch_size=8, lr=3e-3, val_every=30, val_batches=1)
     model, h = A.train_adain("course", p["content"], p["style"], seed=0, out=tmp_path / "a.pt", progress=False,
-                             config=A.AdainConfig(**{**A.asdict(TINY), "pretrain_steps": 30}), train_config=tcfg)
+                             config=A.AdainConfig.from_dict({**TINY.to_dict(), "pretrain_steps": 30}), train_config=tcfg)
     pre = model.pretrain_history  # the autoencoder steps came first
     assert pre["step"][-1] == 30 and np.mean(pre["train"]["content"][-5:]) < np.mean(pre["train"]["content"][:5])
     assert not any(q.requires_grad for q in model.content_encoder.parameters())  # E frozen: A Eq. 3's loss network

@@ -5,9 +5,9 @@ import torch
 
 from mslib.checkpoints import course_path
 from mslib.models.clusterstyle import (SMA, ClusterStyle, ClusterStyleConfig, content_caption, null_text)
-from mslib.models.clusterstyle_guidance import Pipeline, pose_diversity
-from mslib.models.prototypes import PrototypeConfig
-from mslib.models.vae import MotionVAE, VAEConfig
+from mslib.models.clusterstyle import Pipeline, pose_diversity
+from mslib.models.clusterstyle.prototypes import PrototypeConfig
+from mslib.models.common.vae import MotionVAE, VAEConfig
 from mslib.motion.features import encode
 
 VOCAB = ["<pad>", "<unk>", "a", "forward", "person", "walks"]
@@ -188,7 +188,7 @@ def test_pose_diversity_known_answers():
 @pytest.mark.skipif(not course_path("clusterstyle").is_file() or not course_path("vae").is_file(),
                     reason="course checkpoints not built yet")
 def test_packaged_checkpoint_loads_and_transfers():
-    from mslib.models.clusterstyle_guidance import load_pipeline
+    from mslib.models.clusterstyle import load_pipeline
     pipe = load_pipeline()
     lam = [float(b.sma.lam.detach()) for b in pipe.model.denoiser.blocks]
     assert any(abs(v - 1.0) > 1e-3 for v in lam)  # λ was trained

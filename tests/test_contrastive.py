@@ -1,5 +1,6 @@
 """Paper C: losses against known answers, shapes, the discriminator's own step, a tiny training run,
 the packaged checkpoint and the bench entry, and the findings' measures."""
+import importlib
 import json
 import math
 
@@ -10,7 +11,6 @@ from torch.utils.data import Dataset
 
 from mslib.checkpoints import course_path, read_checkpoint
 from mslib.models import contrastive as C
-from mslib.models import contrastive_analysis as CA
 from mslib.training import fit
 
 
@@ -280,7 +280,7 @@ def test_two_phase_training_freezes_the_style_encoder(monkeypatch):
                       "content": [p.detach().clone() for p in model.content_encoder.parameters()]})
         return real_fit(model, data, tcfg, **kw)
 
-    monkeypatch.setattr(C, "fit", recording_fit)  # phase 2 (C.train) and phase 1 (the shared two-phase helper)
+    monkeypatch.setattr(importlib.import_module("mslib.models.contrastive.train"), "fit", recording_fit)  # phase 2 (C.train) and phase 1 (the shared two-phase helper)
     monkeypatch.setattr("mslib.training.fit", recording_fit)
     cfg = tiny(steps=3, pretrain_steps=2, batch_size=4, warmup_steps=0)
     m, h = C.train(cfg, builtin["content"], builtin["style"], seed=5, progress=False, val=False)
@@ -403,37 +403,11 @@ def test_course_checkpoint_loads_and_bench_transfer_gives_positions():
     m = C.load()
     assert m.config == {**C.ContrastiveConfig.preset("course").__dict__}
     content, style = bench.load_pairs(seed=0, n_pairs=1)[0]
-    out = bench.get_method("contrastive")(content, style)
+    out = bench.positions(bench.get_method("contrastive")(content, style))
     assert out.shape == (len(content["features"]), 22, 3) and np.isfinite(out).all()
     # the root trajectory is the content's: same root path as decoding the content
     from mslib.motion.features import decode
     np.testing.assert_allclose(out[:, 0, [0, 2]], decode(content["features"])[:, 0, [0, 2]], atol=1e-5)
-
-
-# ---------------------------------------------------------------- findings' measures
-def test_silhouette_purity_and_gram_known_answers():
-    rng = np.random.default_rng(0)
-    a, b = rng.normal(size=(20, 4)) * 0.01, rng.normal(size=(20, 4)) * 0.01 + 5
-    codes, labels = np.concatenate([a, b]), np.array(["x"] * 20 + ["y"] * 20)
-    assert CA.silhouette(codes, labels) > 0.99
-    assert CA.nearest_neighbour_purity(codes, labels, "x") == 1.0
-    assert CA.nn_accuracy(codes, labels) == 1.0
-    alternating = np.array(["p", "q"] * 20)  # a label that ignores the two clusters
-    scores = CA.code_scores(codes, labels, alternating)
-    assert scores["silhouette"] > 0.99 and scores["silhouette_by_content"] < 0.1
-    line = np.array([0.0, 1, 3, 4, 7, 8])[:, None]  # nearest neighbours pair up: (0, 1), (3, 4), (7, 8)
-    assert CA.nn_accuracy(line, np.array(list("aabbaa"))) == pytest.approx(1.0)
-    assert CA.nn_accuracy(line, np.array(list("ababab"))) == 0.0
-    # groups: a code's own group is not searched. Two "a" windows of one recording (0, 0.5), a "b" at 1.2, an "a" at 5:
-    pts, lab, rec = np.array([[0.0], [0.5], [1.2], [5.0]]), np.array(list("aaba")), np.array(list("gghk"))
-    assert CA.nearest_neighbour_purity(pts, lab, "a") == pytest.approx(2 / 3)  # 0 ↔ 0.5 find each other, 5 finds b
-    assert CA.nearest_neighbour_purity(pts, lab, "a", rec) == 0.0  # outside their recording, 0 and 0.5 find b too
-    mixed = rng.normal(size=(40, 4))
-    assert abs(CA.silhouette(mixed, labels)) < 0.1
-    x = rng.normal(size=(10, 3))
-    np.testing.assert_allclose(CA.gram(x), x.T @ x / 10)
-    with pytest.raises(ValueError, match="labels"):
-        CA.silhouette(codes, ["x"] * 40)
 
 
 def test_interpolation_ends_match_transfer():
@@ -441,24 +415,11 @@ def test_interpolation_ends_match_transfer():
     m = C.ContrastiveModel(tiny()).eval()
     rng = np.random.default_rng(0)
     content, sa, sb = rng.normal(size=(40, 263)), rng.normal(size=(31, 263)), rng.normal(size=(31, 263))
-    strip = CA.interpolate_styles(m, content, sa, sb, (0.0, 0.5, 1.0))
+    strip = C.interpolate_styles(m, content, sa, sb, (0.0, 0.5, 1.0))
     assert len(strip) == 3 and strip[0].shape == (40, 22, 3)
     from mslib.motion.features import decode
     np.testing.assert_allclose(strip[0], decode(m.transfer_features(content, sa)), atol=1e-4)
     np.testing.assert_allclose(strip[-1], decode(m.transfer_features(content, sb)), atol=1e-4)
-
-
-def test_missing_findings_name_the_command(tmp_path):
-    with pytest.raises(ValueError, match="contrastive_analysis"):
-        CA.load_findings(tmp_path / "none.json")
-
-
-def test_findings_round_trip_and_load_before_compute(tmp_path):
-    results = {"steps": 3, "sweep": [{"beta": 0.3, "content_distance": 0.5}], "labels": ["a", "b"]}
-    path = CA.save_findings(results, tmp_path / "f.json")
-    assert CA.load_findings(path) == results
-    # an existing file is loaded, never recomputed (the folders given here do not exist)
-    assert CA.findings(tmp_path / "no_content", tmp_path / "no_style", path=path) == results
 
 
 @needs_ckpt

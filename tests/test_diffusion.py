@@ -2,7 +2,7 @@
 import pytest
 import torch
 
-from mslib.models.diffusion import Schedule, cfg_combine, ddim_sample, ddim_timesteps, eps_loss
+from mslib.models.common.diffusion import Schedule, cfg_combine, ddim_sample, ddim_timesteps, eps_loss
 
 
 def test_scaled_linear_schedule_endpoints_and_decreasing_abar():

@@ -1,7 +1,7 @@
 """Shared model blocks: AdaIN statistics (A Eq. 2), masks, residual blocks, positions."""
 import torch
 
-from mslib.models.layers import PositionalEncoding, ResBlock1d, adain, channel_stats, sinusoid
+from mslib.models.common.layers import PositionalEncoding, ResBlock1d, adain, channel_stats, sinusoid
 
 
 def test_adain_output_has_style_statistics():

@@ -6,7 +6,7 @@ import torch
 
 from mslib.data.corpora import load_builtin
 from mslib.models import mcm_ldm as M
-from mslib.models.diffusion import ddim_sample
+from mslib.models.common.diffusion import ddim_sample
 
 
 def tiny(**kw):

@@ -3,7 +3,7 @@ import pytest
 import torch
 import torch.nn.functional as F
 
-from mslib.models.prototypes import (PrototypeBank, PrototypeConfig, PrototypeStyleModel, ema_update,
+from mslib.models.clusterstyle.prototypes import (PrototypeBank, PrototypeConfig, PrototypeStyleModel, ema_update,
                                      local_means, matched_purity, prototype_nce, sinkhorn, substyle_confusion)
 
 

@@ -49,7 +49,7 @@ def test_bvh_round_trip_builtin_clip(tmp_path, capsys, clips):
     rc, summary, _ = transfer(tmp_path, capsys, "--method", "identity", "--content", content_id,
                               "--style", style_id, "--out", out)
     assert rc == 0 and summary["kind"] == "bvh" and summary["units"] == "m"
-    expected = load_motion(content_id)["joints"]
+    expected = load_motion(content_id)["joints"][:-1]  # a method returns features: all but the last frame
     assert max_error(bvh_positions(out), expected) < 1 * CM
     text = out.read_text()
     assert text.startswith("HIERARCHY\nROOT pelvis\n") and "\nMOTION\nFrames: %d\nFrame Time: 0.05\n" % len(expected) in text
@@ -81,7 +81,7 @@ def test_bvh_round_trip_real_humanml3d(tmp_path, capsys, shared_data, clips):
         assert n >= len(positions) - 1 and max_error(back[:n], positions[:n]) < 1 * CM
     # the written BVH is an input too: auto dialect, registration, the same motion back
     again = load_motion(tmp_path / "pos.bvh", "--content")
-    assert again["joints"].shape == positions.shape and max_error(again["joints"], positions) < 1 * CM
+    assert again["joints"].shape == positions[:-1].shape and max_error(again["joints"], positions[:-1]) < 1 * CM
 
 
 BLENDER_SCRIPT = """
@@ -148,7 +148,7 @@ def test_gif_output(tmp_path, capsys, clips):
     np.save(tmp_path / "short.npy", load_motion(clips[1])["joints"][:12])  # a short clip keeps it quick
     rc, summary, _ = transfer(tmp_path, capsys, "--method", "identity", "--content", tmp_path / "short.npy",
                               "--style", clips[1], "--out", tmp_path / "o.gif")
-    assert rc == 0 and summary["frames"] == 12
+    assert rc == 0 and summary["frames"] == 11  # 12 positions → 11 feature rows → 11 frames
     with Image.open(tmp_path / "o.gif") as im:
         assert im.format == "GIF" and im.is_animated and im.n_frames == summary["frames"]
 

@@ -5,7 +5,7 @@ import torch
 
 from mslib.checkpoints import course_path
 from mslib.data.corpora import load_builtin
-from mslib.models import vae as V
+from mslib.models.common import vae as V
 
 
 def tiny(**kw):

@@ -8,7 +8,8 @@ variants  where the style statistics come from, each trained with the course siz
           independent evaluator on `--pairs` (content, style) pairs from the val splits at three
           style strengths w:
           separate_joint   A §3.2.1 as written: a transformer E_s on joint positions, trained jointly with
-                           E_c and the decoder (the content skip on, as the workbook's first course model);
+                           E_c and the decoder (its stored rows were made at commit 3748be4 with the content
+                           skip on, as the workbook's first course model; that option has left the library);
           separate_frozen  the same E_s, but E_c, E_s and the decoder first trained as an autoencoder,
                            then E_s frozen as A Eq. 3's loss network (no skip);
           shared_frozen    the course recipe: one encoder E for content and style, pre-trained, then frozen.
@@ -29,9 +30,9 @@ sys.path.insert(0, str(ROOT))
 OUT = ROOT / "notebooks" / "data" / "02_adain_variants.json"
 
 VARIANTS = {
-    "separate_joint": dict(shared_encoder=False, pretrain_steps=0, content_skip=True),
-    "separate_frozen": dict(shared_encoder=False, content_skip=False),
-    "shared_frozen": dict(shared_encoder=True, content_skip=False),
+    "separate_joint": dict(shared_encoder=False, pretrain_steps=0),
+    "separate_frozen": dict(shared_encoder=False),
+    "shared_frozen": dict(shared_encoder=True),
 }
 STRENGTHS = (0.5, 0.75, 1.0)
 
@@ -48,7 +49,7 @@ def variants(paths, pairs, evaluator, steps: int) -> dict:
     """Train each variant for `steps` decoder steps and score it on the val pairs."""
     from mslib.models import adain as A
     from mslib.training import TrainConfig
-    cfg, tcfg = A.PRESETS["course"]
+    cfg, tcfg = A.AdainConfig.preset("course"), A.ADAIN_TRAINING["course"]
     rows = []
     for name, change in VARIANTS.items():
         t0 = time.time()

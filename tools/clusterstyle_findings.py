@@ -62,7 +62,7 @@ def fig5(paths) -> dict:
     import numpy as np
     from mslib.evaluation import metrics as M
     from mslib.evaluation.bench import Evaluator
-    from mslib.models.clusterstyle_guidance import load_pipeline, pose_diversity
+    from mslib.models.clusterstyle import load_pipeline, pose_diversity
     from mslib.motion.features import decode
     pipe, ev = load_pipeline(), Evaluator()
     K = pipe.model.style_cfg.k_global
@@ -105,7 +105,7 @@ GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1
 def guidance(n_pairs: int = 96) -> dict:
     """H, CRA, SRA of SDEdit transfers on a val draw for (w, s_s) in GUIDANCE_GRID (t0 600, s_t 2.5)."""
     from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
-    from mslib.models.clusterstyle_guidance import load_pipeline
+    from mslib.models.clusterstyle import load_pipeline
     from mslib.motion.features import decode
     pairs, ev, pipe = load_pairs(0, n_pairs, split="val"), Evaluator(), load_pipeline()
     rows = []
@@ -121,7 +121,7 @@ def guidance(n_pairs: int = 96) -> dict:
 def encoder_accuracy(path, paths) -> float:
     """Held-out (test split) style accuracy of a trained style model, in percent."""
     from mslib.data.datasets import StyleClips
-    from mslib.models.prototypes import NormalizedClips, load_style_model
+    from mslib.models.clusterstyle.prototypes import NormalizedClips, load_style_model
     from mslib.motion.features import Normalizer
     model = load_style_model(path)
     norm = Normalizer.load(paths["content"])
@@ -137,8 +137,8 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
     """Clustering (prototypes) vs a learnable classification head with CE: short runs, SRA by the evaluator."""
     from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
     from mslib.models import clusterstyle as C
-    from mslib.models.clusterstyle_guidance import Pipeline
-    from mslib.models.vae import load_vae
+    from mslib.models.clusterstyle import Pipeline
+    from mslib.models.common.vae import load_vae
     from mslib.motion.features import decode
     pairs = load_pairs(seed=0, n_pairs=n_pairs)
     ev, vae = Evaluator(), load_vae()
@@ -189,7 +189,7 @@ def main(argv=None) -> int:
         print("bench", json.dumps(result["bench"]), flush=True)
     result.pop("command", None)  # older files: one command for the whole file
     command = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
-    from mslib.models.vae import load_vae
+    from mslib.models.common.vae import load_vae
     vae_cfg = load_vae().cfg
     from mslib.checkpoints import checkpoint_digest
     for key in ("fig5", "table3", "bench", "guidance"):

@@ -78,7 +78,7 @@ from mslib.data.corpora import load_builtin, take_of  # noqa: E402
 from mslib.evaluation.bench import Evaluator, by_style, evaluate, load_pairs  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
 from mslib.models.adain import load_adain  # noqa: E402
-from mslib.models.contrastive_analysis import nearest_neighbour_purity  # noqa: E402
+from mslib.evaluation.embedding import nearest_neighbour_purity  # noqa: E402
 from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
 

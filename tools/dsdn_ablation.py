@@ -22,7 +22,7 @@ from pathlib import Path
 
 from mslib.data.corpora import load_builtin
 from mslib.fileio import atomic_write_bytes
-from mslib.models import dsdn as D
+from mslib.models import adain as D
 from mslib.models.adain import load_adain
 
 
@@ -38,7 +38,7 @@ def main(argv=None) -> list:
         return strength_sweep(args.out)
     paths = load_builtin(progress=False)
     stage1 = load_adain()
-    cfg, _ = D.PRESETS["course"]
+    cfg = D.DsdnConfig.preset("course")
     data = tuple(D.neutral_pairs(stage1, paths["content"], paths["style"], split, cfg.clip_frames, args.seed)
                  for split in ("train", "val"))
     rows = []

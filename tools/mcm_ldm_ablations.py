@@ -37,7 +37,7 @@ def main(argv=None) -> int:
     from mslib.data.corpora import load_builtin
     from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
     from mslib.checkpoints import checkpoint_digest
-    from mslib.models import mcm_ldm_pipeline as P
+    from mslib.models import mcm_ldm as P
     from mslib.motion.features import decode
 
     paths = load_builtin(progress=False)
@@ -76,7 +76,7 @@ def main(argv=None) -> int:
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
     order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]
-    from mslib.models.vae import load_vae
+    from mslib.models.common.vae import load_vae
     vcfg = load_vae().cfg  # the VAE every row was measured through (the notebook checks it still matches)
     data = {"pairs": args.pairs, "seed": 0, "steps": args.steps,
             "vae": {"arch": getattr(vcfg, "arch", "transformer"), "latent_tokens": vcfg.latent_tokens,

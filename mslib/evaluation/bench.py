@@ -1,8 +1,8 @@
 """The benchmark: every method on the same held-out (content, style) pairs, scored by the evaluator.
 
-Methods come from the registry in `mslib.models.registry` (each model module registers its own
-transfer factory there); `identity` and `copy_style`, registered here, are the reference rows every
-method must beat on H.
+Methods come from the registry in `mslib.models.registry` (each model package declares its own);
+`identity` and `copy_style`, registered here, are the reference rows every method must beat on H.
+Every method returns 263-d features; `positions` turns them into the joint positions that are scored.
 """
 from __future__ import annotations
 
@@ -19,11 +19,17 @@ JSON_KEYS = ("method", "seed", "pairs", "fmd", "cra", "sra", "sra_top3", "h", "t
              "diversity", "ms_per_clip")
 
 
+def positions(features) -> np.ndarray:
+    """A method's output features ((T−1)×263, unnormalised) → joint positions (T−1, 22, 3): the one place
+    the benchmark, `perf`, `transfer` and the notebooks derive positions from a transfer."""
+    return decode(np.asarray(features))
+
+
 # ---------------------------------------------------------------- the reference rows
 @register("identity", "output = the content motion (perfect content, no style)")
 def _identity(device="cpu"):
     def transfer(content, style):
-        return np.asarray(content["joints"], np.float64)
+        return np.asarray(content["features"], np.float64)
     transfer.n_parameters = 0
     return transfer
 
@@ -37,7 +43,7 @@ def loop_features(features, n_rows: int) -> np.ndarray:
 @register("copy_style", "output = the style motion, looped to the content's length (all style, no content)")
 def _copy_style(device="cpu"):
     def transfer(content, style):
-        return decode(loop_features(style["features"], len(content["features"])).astype(np.float64))
+        return loop_features(style["features"], len(content["features"])).astype(np.float64)
     transfer.n_parameters = 0
     return transfer
 
@@ -140,7 +146,7 @@ def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu
     outputs, seconds = [], 0.0
     for content, style in tqdm(pairs, desc=method, disable=not progress):
         t0 = time.perf_counter()
-        out = transfer(content, style)
+        out = positions(transfer(content, style))
         seconds += time.perf_counter() - t0
         outputs.append(np.asarray(out, np.float64))
     row = {"method": method, "seed": seed, "pairs": len(pairs), **evaluate(outputs, pairs, evaluator),

@@ -25,7 +25,7 @@ from ..fileio import atomic_save_npy, atomic_write_bytes, check_writable, load_n
 from ..motion import features as F
 from ..motion.bvh import write_bvh
 from ..motion.ik import fit_error, positions_to_bvh
-from .bench import get_method
+from .bench import get_method, positions
 
 OUTPUT_KINDS = (".bvh", ".npy", ".gif")
 FPS = 20.0
@@ -149,9 +149,11 @@ def save_gif(path, positions, fps: float = FPS, title: str | None = None) -> Pat
     return Path(path)
 
 
-def save_motion(out, positions, force: bool = False, arg: str = "--out", title: str | None = None) -> dict:
-    """Write positions (T, 22, 3) as .bvh, .npy (263-d) or .gif by OUT's extension; returns facts
-    about the file (for .bvh the largest joint error of its forward kinematics, in cm)."""
+def save_motion(out, positions, force: bool = False, arg: str = "--out", title: str | None = None,
+                features=None) -> dict:
+    """Write positions (T, 22, 3) as .bvh, .npy (263-d: `features` when given, else encoded from the
+    positions) or .gif by OUT's extension; returns facts about the file (for .bvh the largest joint error
+    of its forward kinematics, in cm)."""
     out = check_output(out, force, arg)
     p = F.check_positions(positions, "the method's output")
     kind = out.suffix.lower()
@@ -161,8 +163,9 @@ def save_motion(out, positions, force: bool = False, arg: str = "--out", title: 
         write_bvh(out, motion, overwrite=True)  # check_output has already refused unforced overwrites
         info.update(units="m", bvh_fit_error_cm=round(100 * fit_error(motion, p), 4))
     elif kind == ".npy":
-        atomic_save_npy(out, F.encode(p), force=True, arg=arg)
-        info["shape"] = [int(len(p)) - 1, F.N_FEATURES]
+        vector = F.encode(p) if features is None else np.asarray(features, np.float32)
+        atomic_save_npy(out, vector, force=True, arg=arg)
+        info["shape"] = list(vector.shape)
     else:
         save_gif(out, p, title=title)
     return info
@@ -176,11 +179,12 @@ def run_transfer(method: str, content, style, out, force: bool = False, device: 
     c = load_motion(content, "--content", dialect)
     s = load_motion(style, "--style", dialect)
     t0 = time.perf_counter()
-    result = np.asarray(transfer(c, s), np.float64)
+    features = np.asarray(transfer(c, s))
     seconds = time.perf_counter() - t0
-    if result.ndim != 3 or result.shape[1:] != (F.N_JOINTS, 3):
-        raise ValueError(f"--method {method!r}: returned shape {result.shape}, expected (T, 22, 3) positions")
-    info = save_motion(out, result, force, title=method)
+    if features.ndim != 2 or features.shape[1] != F.N_FEATURES:
+        raise ValueError(f"--method {method!r}: returned shape {features.shape}, expected (T−1, {F.N_FEATURES}) features")
+    result = np.asarray(positions(features), np.float64)
+    info = save_motion(out, result, force, title=method, features=features)
     return {"method": method, "content": c["clip_id"], "style": s["clip_id"],
             "content_frames": int(len(c["joints"])), "style_frames": int(len(s["joints"])),
             "transfer_ms": round(1000 * seconds, 3), **info}

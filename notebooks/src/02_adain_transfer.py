@@ -32,7 +32,7 @@ from mslib.data.corpora import load_builtin
 from mslib.data.datasets import ContentClips, StyleClips
 from mslib.data.styles import STYLES
 from mslib.models import adain as A
-from mslib.models.layers import adain, channel_stats
+from mslib.models.common.layers import adain, channel_stats
 from mslib.motion.features import decode
 from mslib.training import TrainConfig
 
@@ -141,7 +141,7 @@ _ = fig
 
 # %%
 from dataclasses import replace
-cfg, _ = A.PRESETS["course"]
+cfg = A.AdainConfig.preset("course")
 live_cfg = TrainConfig(steps=80, batch_size=16, lr=2e-3, warmup_steps=10, val_every=20, val_batches=2)
 live_model, live = A.train_adain("course", paths["content"], paths["style"], seed=0, progress=False,
                                  config=replace(cfg, pretrain_steps=80), train_config=live_cfg)

@@ -33,11 +33,11 @@ from mslib.data.corpora import load_builtin, take_of
 from mslib.data.datasets import ContentClips, StyleClips
 from mslib.data.styles import STYLES
 from mslib.motion.features import decode
-from mslib.models import vae as V
+from mslib.models.common import vae as V
 from mslib.models import mcm_ldm as M
-from mslib.models import style_extractor as SE
-from mslib.models.contrastive_analysis import nn_accuracy
-from mslib.models.diffusion import Schedule, cfg_combine
+from mslib.models.common import style_extractor as SE
+from mslib.evaluation.embedding import nn_accuracy
+from mslib.models.common.diffusion import Schedule, cfg_combine
 
 paths = load_builtin(progress=False)
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
@@ -218,7 +218,7 @@ print(f"style of the nearest held-out clip from another take matches: {100 * nn_
 # A live run: a small denoiser on 200 clips of each corpus, 150 steps.
 
 # %%
-from mslib.models.mcm_ldm_pipeline import build_tensors, train_mcm, Transfer, load_mcm_ldm
+from mslib.models.mcm_ldm import build_tensors, train_mcm, Transfer, load_mcm_ldm
 from dataclasses import asdict
 
 small = build_tensors(vae, extractor, paths["content"], paths["style"], "train", views=1, limit=200)

@@ -32,9 +32,9 @@ from IPython.display import HTML
 from mslib import viz
 from mslib.checkpoints import checkpoint_digest, course_path, read_checkpoint
 from mslib.data.corpora import load_builtin
-from mslib.evaluation.bench import Evaluator, format_table, get_method, load_pairs, run_bench
+from mslib.evaluation.bench import Evaluator, format_table, get_method, load_pairs, positions, run_bench
 from mslib.evaluation.metrics import jitter, pose_offset, transfer_noise
-from mslib.models import dsdn as D
+from mslib.models import adain as D
 from mslib.models.adain import load_adain
 from mslib.motion.features import decode
 from mslib.training import TrainConfig
@@ -96,7 +96,7 @@ for name, part in (("dynamic", demo.dynamic), ("static", demo.static), ("gate", 
 # A short live run on those pairs (validation pairs held out):
 
 # %%
-cfg, _ = D.PRESETS["course"]
+cfg = D.DsdnConfig.preset("course")
 val_pairs = D.neutral_pairs(stage1, paths["content"], paths["style"], "val", cfg.clip_frames)
 train_pairs = D.neutral_pairs(stage1, paths["content"], paths["style"], "train", cfg.clip_frames)
 train_small = (train_pairs[0][:256], train_pairs[1][:256])
@@ -221,7 +221,7 @@ print(format_table(rows, notebook=True))
 jit = {}
 for m in ("adain", "adain+dsdn"):
     transfer = get_method(m)
-    jit[m] = np.mean([jitter(transfer(c, s)) for c, s in pairs])
+    jit[m] = np.mean([jitter(positions(transfer(c, s))) for c, s in pairs])
     print(f"{m:<11} jitter {jit[m]:.2f} m/s²")
 r = {row["method"]: row for row in rows}
 print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.2f} cm/frame, "

@@ -38,10 +38,10 @@ from mslib.data.corpora import load_builtin
 from mslib.data.datasets import ContentClips, StyleClips
 from mslib.data.styles import STYLES, SUBSTYLES
 from mslib.motion.features import Normalizer, decode
-from mslib.models import prototypes as P
+from mslib.models.clusterstyle import prototypes as P
 from mslib.models import clusterstyle as C
-from mslib.models.clusterstyle_guidance import load_pipeline, pose_diversity
-from mslib.models.contrastive_analysis import tsne_2d
+from mslib.models.clusterstyle import load_pipeline, pose_diversity
+from mslib.evaluation.embedding import tsne_2d
 
 paths = load_builtin(progress=False)
 norm = Normalizer.load(paths["content"])  # the content corpus statistics (shared with the motion VAE)

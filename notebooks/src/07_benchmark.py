@@ -26,7 +26,7 @@ from IPython.display import HTML
 torch.set_num_threads(1)
 
 from mslib import viz
-from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, positions, run_bench
 from mslib.evaluation import metrics as M
 from mslib.models.registry import DESCRIPTIONS, get_method, known_methods
 
@@ -99,7 +99,7 @@ _ = fig
 # %%
 content, style = pairs[0]
 print("content:", content["clip_id"], "·", content["content"], "| style:", style["clip_id"], "·", style["style"])
-outputs = {m: np.asarray(get_method(m)(content, style)) for m in METHODS[2:]}
+outputs = {m: positions(get_method(m)(content, style)) for m in METHODS[2:]}
 motions = [content["joints"], style["joints"]] + list(outputs.values())
 titles = [f"content ({content['content']})", f"style ({style['style']})"] + list(outputs)
 for t, m in zip(titles, motions):

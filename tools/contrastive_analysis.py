@@ -1,8 +1,8 @@
 """Paper C's findings, measured: style-code clusters with and without the contrastive terms (C Fig. 2),
 the β sweep (C Table 1), style interpolation (C Fig. 10–11) and an unseen style (C Fig. 3).
 
-Short runs are too slow for a notebook, so `python -m mslib.models.contrastive_analysis` trains them
-once (six course-sized runs of 300 steps) and writes `mslib/checkpoints/contrastive_findings.json`:
+Short runs are too slow for a notebook, so `python tools/contrastive_analysis.py` trains them
+once (six course-sized runs of 300 steps) and writes `notebooks/data/03_contrastive_findings.json`:
 the tables, silhouettes and the t-SNE points of the held-out style codes; notebook 03 loads it if it
 exists, else computes it (`findings`). Labels are used only to colour and score codes, never in training
 (the unseen-style run leaves the depressed clips out of its training data).
@@ -18,37 +18,30 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import torch
 
-from ..checkpoints import PACKAGE_DIR
-from ..data.corpora import take_of
-from ..data.datasets import MotionFolder
-from ..fileio import atomic_write_bytes
-from ..motion.features import BLOCKS, decode
-from .contrastive import ContrastiveConfig, ContrastiveModel, train
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from mslib.data.datasets import MotionFolder  # noqa: E402
+from mslib.evaluation.embedding import (code_scores, nearest_neighbour_purity, silhouette_per_label,  # noqa: E402
+                                        style_clips, tsne_2d)
+from mslib.fileio import atomic_write_bytes  # noqa: E402
+from mslib.models.contrastive import ContrastiveConfig, ContrastiveModel, train  # noqa: E402
+from mslib.motion.features import BLOCKS  # noqa: E402
 
-FINDINGS_JSON = PACKAGE_DIR / "contrastive_findings.json"
-COMMAND = "python -m mslib.models.contrastive_analysis"
+FINDINGS_JSON = ROOT / "notebooks" / "data" / "03_contrastive_findings.json"
+COMMAND = "python tools/contrastive_analysis.py"
 DEFAULT_STEPS = 300
 BETAS = (0.0, 0.3, 0.6, 1.0)
 UNSEEN = "depressed"
 
 
 # ---------------------------------------------------------------- held-out data
-def style_clips(style_folder, split: str = "test", with_content: bool = False) -> tuple:
-    """Unnormalised style-corpus clips (list of (31, 263)) and their style labels (and content labels and
-    the take each clip was cut from, for neighbour measures that must not count a window of the same take)."""
-    ds = MotionFolder(style_folder, split, normalize=False, labels=("style",))
-    out = [ds._arrays(i)[0] for i in range(len(ds))], np.array([r["style"] for r in ds.rows])
-    if not with_content:
-        return out
-    return out + (np.array([r["content"] for r in ds.rows]), np.array([take_of(r["clip_id"]) for r in ds.rows]))
-
-
 def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, split: str = "val") -> list:
     """n (content features, style features) pairs from a split (not the benchmark's test pairs)."""
     content = MotionFolder(content_folder, split, normalize=False, labels=())
@@ -59,54 +52,6 @@ def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, spl
 
 
 # ---------------------------------------------------------------- measures
-def silhouette(codes: np.ndarray, labels) -> float:
-    """Mean silhouette of codes (N, l) grouped by label (scikit-learn, Euclidean)."""
-    from sklearn.metrics import silhouette_score
-    labels = np.asarray(labels)
-    if len(codes) != len(labels) or len(set(labels.tolist())) < 2:
-        raise ValueError("codes/labels: need one label per code and at least two labels")
-    return float(silhouette_score(codes, labels))
-
-
-def silhouette_per_label(codes: np.ndarray, labels) -> dict:
-    """Mean silhouette of each label's codes."""
-    from sklearn.metrics import silhouette_samples
-    labels = np.asarray(labels)
-    s = silhouette_samples(codes, labels)
-    return {str(k): float(s[labels == k].mean()) for k in sorted(set(labels.tolist()))}
-
-
-def nearest_neighbour_purity(codes: np.ndarray, labels, label: str, groups=None) -> float:
-    """Fraction of `label`'s codes whose nearest other code (Euclidean) has the same label; with `groups`
-    (e.g. the recording each clip was cut from) a code's own group is not searched."""
-    labels = np.asarray(labels)
-    own = labels == label
-    return float((labels[_nearest_other(codes, groups)[own]] == label).mean())
-
-
-def _nearest_other(codes: np.ndarray, groups=None) -> np.ndarray:
-    """Index of each code's nearest other code (Euclidean), outside its own group if `groups` is given."""
-    d = ((codes[:, None] - codes[None]) ** 2).sum(-1)
-    np.fill_diagonal(d, np.inf)
-    if groups is not None:
-        groups = np.asarray(groups)
-        d[groups[:, None] == groups[None]] = np.inf
-    return d.argmin(1)
-
-
-def nn_accuracy(codes: np.ndarray, labels, groups=None) -> float:
-    """Leave-one-out 1-nearest-neighbour accuracy: how often a code's nearest other code (outside its group) shares its label."""
-    labels = np.asarray(labels)
-    return float((labels[_nearest_other(codes, groups)] == labels).mean())
-
-
-def tsne_2d(codes: np.ndarray, seed: int = 0) -> np.ndarray:
-    """Codes (N, l) → (N, 2) with scikit-learn's t-SNE (PCA initialisation, perplexity 30)."""
-    from sklearn.manifold import TSNE
-    return TSNE(2, perplexity=min(30.0, (len(codes) - 1) / 3), init="pca", random_state=seed).fit_transform(
-        np.asarray(codes, np.float64))
-
-
 def _ric(model: ContrastiveModel, f: np.ndarray) -> np.ndarray:
     """The normalised ric block of unnormalised features (T, 263) → (T, 63)."""
     sl = BLOCKS["ric"]
@@ -131,25 +76,6 @@ def transfer_distances(model: ContrastiveModel, pairs) -> dict:
 
 
 # ---------------------------------------------------------------- interpolation
-@torch.no_grad()
-def interpolate_styles(model: ContrastiveModel, content: np.ndarray, style_a: np.ndarray, style_b: np.ndarray,
-                       weights=(0.0, 0.3, 0.6, 1.0)) -> list:
-    """C Fig. 10–11: decode one content with (1 − w)·E_s(a) + w·E_s(b) → list of (T, 22, 3) positions."""
-    dev = model.mean.device
-    t = lambda a: model.normalize(torch.as_tensor(np.asarray(a), dtype=torch.float32, device=dev))[None]  # noqa: E731
-    c = t(content)
-    code_c = model.encode_content(c)
-    sa, sb = model.encode_style(t(style_a)), model.encode_style(t(style_b))
-    k = model.cfg.keep_root
-    out = []
-    for w in weights:
-        f = model.denormalize(model.generate(code_c, (1 - w) * sa + w * sb, c.shape[1], c))[0].cpu().numpy()
-        f = f.astype(np.float64)
-        f[:, :k] = np.asarray(content, np.float64)[:, :k]
-        out.append(decode(f))
-    return out
-
-
 # ---------------------------------------------------------------- the short runs
 def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_styles=(), **overrides):
     """A course-sized model trained jointly, as C does, for `steps` (no validation, no checkpoint).
@@ -161,13 +87,6 @@ def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_s
     model, history = train(cfg, content_folder, style_folder, seed, progress=False,
                            exclude_styles=exclude_styles, val=False)
     return model.eval(), history
-
-
-def code_scores(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, takes=None) -> dict:
-    """How the style codes group: silhouette and 1-NN accuracy by style label (the neighbour from another
-    take, if `takes` are given), silhouette by content label."""
-    return {"silhouette": silhouette(codes, labels), "nn_accuracy": nn_accuracy(codes, labels, takes),
-            "silhouette_by_content": silhouette(codes, contents)}
 
 
 def _embedding(codes: np.ndarray, labels: np.ndarray, contents: np.ndarray, takes, seed: int) -> dict:
@@ -233,7 +152,7 @@ def findings(content_folder, style_folder, path=FINDINGS_JSON, **kwargs) -> dict
 
 
 def main(argv=None) -> int:
-    """`python -m mslib.models.contrastive_analysis [--steps N] [--seed S] [--pairs N] [--out FILE]`:
+    """`python tools/contrastive_analysis.py [--steps N] [--seed S] [--pairs N] [--out FILE]`:
     the short runs of C's findings → a JSON file (by default the one notebook 03 loads)."""
     p = argparse.ArgumentParser(prog=COMMAND, description=main.__doc__)
     p.add_argument("--steps", type=int, default=DEFAULT_STEPS)
@@ -243,7 +162,7 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     if args.steps < 1 or args.pairs < 1:
         raise SystemExit("--steps and --pairs must be positive")
-    from ..data.corpora import load_builtin
+    from mslib.data.corpora import load_builtin
     paths = load_builtin(progress=False)
     results = run_findings(paths["content"], paths["style"], args.steps, args.seed, args.pairs)
     print(save_findings(results, args.out))

@@ -5,7 +5,7 @@ style corpus's captions, which name the style, then frozen — the workbook's an
 API:
     enc = MotionEncoder(StyleExtractorConfig.preset("course"))
     emb = enc(x, mask)                       # x (B, T, 263) normalised features, dims 0..2 zeroed inside → (B, D) unit vectors
-    clip = CLIPPair(cfg, vocab)              # motion tower `motion` + text tower `text` (mslib.models.text)
+    clip = CLIPPair(cfg, vocab)              # motion tower `motion` + text tower `text` (mslib.models.common.text)
     enc = load_style_extractor(path=None)    # the frozen motion tower of the packaged checkpoint
 Train: `python -m mslib train style_extractor --preset course --seed 0`.
 """
@@ -17,9 +17,9 @@ import torch
 from torch import nn
 from torch.nn import functional as Fn
 
-from ..checkpoints import course_path, load_state, read_checkpoint
-from ..data.datasets import StyleClips
-from ..training import TrainConfig, fit, run_summary
+from ...checkpoints import course_path, load_state, read_checkpoint
+from ...data.datasets import StyleClips
+from ...training import TrainConfig, fit, run_summary
 from .layers import PositionalEncoding, transformer_encoder
 from .text import TextConfig, TextEncoder, Tokenizer
 
@@ -156,7 +156,7 @@ def load_style_extractor(path=None, device="cpu") -> MotionEncoder:
 def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
     """CLIP-style pre-training of the style extractor (and the text encoder) on the style corpus's captions.
     Features are normalised with the content folder's statistics, as the VAE's are."""
-    from ..data.datasets import ContentClips
+    from ...data.datasets import ContentClips
     cfg = StyleExtractorConfig.preset(preset)
     if steps:
         cfg.steps = int(steps)
@@ -174,4 +174,4 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
                        val_top1=round(history["val"]["top1"][-1], 3))
 
 
-TRAINABLE = {NAME: run}
+

@@ -17,17 +17,12 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
 
-import numpy as np
 import torch
 from torch import nn
 
-from ..checkpoints import course_path, load_state, read_checkpoint
-from ..motion.features import decode as decode_positions
-from ..training import TrainConfig, fit
-from . import style_extractor as SE
-from .diffusion import Schedule, cfg_combine, ddim_sample, eps_loss
-from .layers import PositionalEncoding, TimestepEmbedding, transformer_encoder
-from .vae import MotionVAE, load_vae
+from ..common import style_extractor as SE
+from ..common.diffusion import Schedule, cfg_combine, ddim_sample, eps_loss
+from ..common.layers import PositionalEncoding, TimestepEmbedding, transformer_encoder
 
 NAME = "mcm_ldm"
 TRAJ = slice(0, 3)  # FIELD_FACTS: the trajectory condition is the first 3 normalised dims
@@ -277,16 +272,3 @@ class MCMLDM(nn.Module):
         return ddim_sample(eps_fn, shape, self.sched, n_steps=steps or self.cfg.ddim_steps,
                            generator=generator, callback=callback)
 
-
-# The pipeline (training, transfer, bench entry) lives beside this file; importing it registers the bench
-# method. A plain module import (not names) so either module can be imported first without a cycle error.
-from . import mcm_ldm_pipeline as _pipeline  # noqa: E402
-
-_FORWARDED = ("TRAINABLE", "Transfer", "build_tensors", "load_mcm_ldm")
-
-
-def __getattr__(name):
-    """TRAINABLE, Transfer, build_tensors, load_mcm_ldm are the pipeline's (resolved on first use)."""
-    if name in _FORWARDED:
-        return getattr(_pipeline, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

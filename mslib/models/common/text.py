@@ -7,7 +7,7 @@ API (stable):
     enc = TextEncoder(tok.vocab, TextConfig())   # embeddings + positions + a small transformer, mean-pooled
     emb = enc.encode_text(["an old person walks forward"])   # (B, D), L2-normalised
     enc = load_text_encoder(path=None)           # the text tower of the packaged style_extractor checkpoint
-It is trained jointly with paper B's style extractor (CLIP-style, mslib.models.style_extractor) on
+It is trained jointly with paper B's style extractor (CLIP-style, mslib.models.common.style_extractor) on
 the style corpus's captions; `python -m mslib train style_extractor --preset course` writes both.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass, fields
 import torch
 from torch import nn
 
-from ..checkpoints import course_path, read_checkpoint
+from ...checkpoints import course_path, read_checkpoint
 from .layers import PositionalEncoding, transformer_encoder
 
 PAD, UNK = "<pad>", "<unk>"

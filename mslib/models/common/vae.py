@@ -29,10 +29,10 @@ import torch
 from torch import nn
 from torch.utils.data import ConcatDataset, Dataset
 
-from ..checkpoints import course_path, load_state, read_checkpoint, save_checkpoint
-from ..data.datasets import ContentClips, StyleClips
-from ..motion.features import decode as decode_positions
-from ..training import TrainConfig, fit, run_summary
+from ...checkpoints import course_path, load_state, read_checkpoint, save_checkpoint
+from ...data.datasets import ContentClips, StyleClips
+from ...motion.features import decode as decode_positions
+from ...training import TrainConfig, fit, run_summary
 from .layers import PositionalEncoding, ResBlock1d, transformer_encoder
 
 NAME = "vae"
@@ -390,4 +390,4 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
                        val_rec=round(history["val"]["rec"][-1], 4) if history["val"].get("rec") else math.nan)
 
 
-TRAINABLE = {NAME: run}
+

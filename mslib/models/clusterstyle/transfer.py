@@ -14,9 +14,10 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from ..motion.features import decode
-from .clusterstyle import MAX_STYLE_ROWS, ClusterStyle, null_text
-from .diffusion import ddim_sample
+from ..common.diffusion import ddim_sample
+from ..common.vae import load_vae
+from ...motion.features import decode
+from .model import MAX_STYLE_ROWS, ClusterStyle, load_clusterstyle, null_text
 
 
 class Pipeline:
@@ -219,20 +220,14 @@ def pose_diversity(features_list: list) -> float:
 # ---------------------------------------------------------------- loading and the bench entry
 def load_pipeline(device="cpu", path=None, vae_path=None) -> Pipeline:
     """The packaged course ClusterStyle (with its text encoder) and the course VAE."""
-    from .clusterstyle import load_clusterstyle
-    from .vae import load_vae
     return Pipeline(load_clusterstyle(path, device), load_vae(vae_path, device), device)
 
 
-from .registry import register  # noqa: E402
-
-
-@register("clusterstyle", "D: SDEdit transfer (t0=600, 20 DDIM steps), text CFG, reference-feature guidance for t < 300")
-def _bench_factory(device="cpu"):
+def clusterstyle_method(device="cpu"):
+    """transfer(content, style) → stylized features: SDEdit with the course checkpoints."""
     pipe = load_pipeline(device)
 
     def transfer(content: dict, style: dict) -> np.ndarray:
-        raw = pipe.transfer(content["features"], style["features"], caption=content.get("caption") or None, seed=0)
-        return decode(raw)
+        return pipe.transfer(content["features"], style["features"], caption=content.get("caption") or None, seed=0)
     transfer.n_parameters = sum(p.numel() for m in (pipe.model, pipe.vae) for p in m.parameters())
     return transfer

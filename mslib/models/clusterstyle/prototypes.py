@@ -25,7 +25,7 @@ import torch.distributed as dist
 import torch.nn.functional as F
 from torch import nn
 
-from .layers import PositionalEncoding, transformer_encoder
+from ..common.layers import PositionalEncoding, transformer_encoder
 
 HEADS = ("prototypes", "classifier")
 
@@ -282,7 +282,7 @@ class PrototypeStyleModel(nn.Module):
 # ---------------------------------------------------------------- loading and analysis
 def load_style_model(path=None, device="cpu") -> PrototypeStyleModel:
     """A trained style model (default: the packaged course `clusterstyle_style.pt`), in eval mode."""
-    from ..checkpoints import course_path, load_state, read_checkpoint
+    from ...checkpoints import course_path, load_state, read_checkpoint
     path = course_path("clusterstyle_style") if path is None else path
     model = PrototypeStyleModel(PrototypeConfig(**read_checkpoint(path)["config"]["prototypes"]))
     load_state(path, model)
@@ -331,7 +331,7 @@ class NormalizedClips(torch.utils.data.Dataset):
 
 def style_train_config(preset: str, seed: int = 0, steps: int | None = None):
     """(PrototypeConfig, TrainConfig) of the style stage for a preset."""
-    from ..training import TrainConfig
+    from ...training import TrainConfig
     if preset == "course":
         cfg = PrototypeConfig.course()
         train = TrainConfig(steps=300, batch_size=64, lr=1e-3, warmup_steps=30, schedule="cosine",
@@ -352,9 +352,9 @@ def train_style_model(preset: str, content, style, seed: int = 0, out=None, devi
                       steps: int | None = None, resume=None, progress: bool = True, head: str = "prototypes",
                       model_name: str = "clusterstyle_style", **overrides) -> tuple:
     """Train the style encoder and its prototypes (or a classifier head) on the style corpus; (model, history)."""
-    from ..data.datasets import StyleClips
-    from ..motion.features import Normalizer
-    from ..training import fit
+    from ...data.datasets import StyleClips
+    from ...motion.features import Normalizer
+    from ...training import fit
     cfg, train = style_train_config(preset, seed, steps)
     cfg.head = head
     for k, v in overrides.items():

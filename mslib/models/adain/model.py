@@ -19,50 +19,45 @@ Two ways to get the style statistics (`AdainConfig.shared_encoder`):
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import torch
 from torch import nn
-from torch.utils.data import Dataset
 
-from ..checkpoints import course_path, load_model
-from ..data.datasets import ContentClips, StyleClips
-from ..motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
-from ..training import TrainConfig, fit, pretrain_then_freeze, run_summary
-from .layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
+from ...motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
+from ..common.config import Config
+from ..common.layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
 
 ROOT_DIMS = slice(0, 4)  # root angular velocity, XZ velocity, height: kept from the content
 
 
 @dataclass
-class AdainConfig:
-    """Sizes and loss weights of the stage-1 model (A §3.2); `paper` preset = larger, longer."""
+class AdainConfig(Config):
+    """Sizes and loss weights of the stage-1 model; defaults are A §3.2's, `course` is the CPU recipe."""
 
-    hidden: int = 64  # channels of C_c, C_s (AdaIN acts on these)
-    content_blocks: int = 2  # residual conv blocks of the content encoder E_c
-    decoder_blocks: int = 2  # residual conv blocks of the motion decoder
-    style_layers: int = 1  # transformer layers of the style encoder E_s
+    hidden: int = 256  # channels of C_c, C_s (AdaIN acts on these)
+    content_blocks: int = 4  # residual conv blocks of the content encoder E_c
+    decoder_blocks: int = 4  # residual conv blocks of the motion decoder
+    style_layers: int = 4  # transformer layers of the style encoder E_s
     heads: int = 4
     kernel: int = 3
-    dropout: float = 0.0
+    dropout: float = 0.1
     lambda_style: float = 1.0  # A Eq. 5
     lambda_content: float = 1.0  # A Eq. 5
-    clip_frames: int = 32  # content crop length (feature rows) in training
-    content_skip: bool = False  # the decoder also sees the content features minus their mean over time
+    clip_frames: int = 120  # content crop length (feature rows) in training
     style_recon: bool = True  # also run the self-reconstruction path on the style clips (see losses)
-    style_strength: float = 0.5  # inference: how far the statistics move from the content's to the style's
-    shared_encoder: bool = True  # one encoder E for content and style statistics (module docstring)
-    pretrain_steps: int = 3000  # autoencoder steps before E is frozen (0: E, E_s and decoder train jointly)
+    style_strength: float = 1.0  # inference: how far the statistics move from the content's to the style's
+    shared_encoder: bool = False  # one encoder E for content and style statistics (module docstring)
+    pretrain_steps: int = 0  # autoencoder steps before E is frozen (0: E, E_s and decoder train jointly)
 
-
-PRESETS = {
-    "course": (AdainConfig(), TrainConfig(steps=6000, batch_size=16, lr=2e-3, warmup_steps=50,
-                                          val_every=250, val_batches=4, time_budget_s=None)),
-    "paper": (AdainConfig(hidden=256, content_blocks=4, decoder_blocks=4, style_layers=4, dropout=0.1,
-                          clip_frames=120, shared_encoder=False, pretrain_steps=0, style_strength=1.0),
-              TrainConfig(steps=40000, batch_size=64, lr=2e-4, warmup_steps=1000, val_every=1000)),
-}
+    PRESETS: ClassVar[dict] = {
+        "paper": {},
+        "course": dict(hidden=64, content_blocks=2, decoder_blocks=2, style_layers=1, dropout=0.0, clip_frames=32,
+                       style_strength=0.5, shared_encoder=True, pretrain_steps=3000),
+    }
+    RETIRED: ClassVar[dict] = {"content_skip": False}
 
 
 def pose_positions(features: torch.Tensor) -> torch.Tensor:
@@ -102,18 +97,15 @@ class StyleEncoder(nn.Module):
 
 
 class Decoder(nn.Module):
-    """Motion decoder: (B, T, H) code [+ (B, T, 263) centred content skip] → normalised 263-d (B, T, 263)."""
+    """Motion decoder: (B, T, H) code → normalised 263-d (B, T, 263)."""
 
     def __init__(self, cfg: AdainConfig):
         super().__init__()
-        self.skip = nn.Conv1d(N_FEATURES, cfg.hidden, 1) if cfg.content_skip else None
         self.blocks = nn.Sequential(*[ResBlock1d(cfg.hidden, cfg.kernel) for _ in range(cfg.decoder_blocks)])
         self.out = nn.Conv1d(cfg.hidden, N_FEATURES, 1)
 
-    def forward(self, h: torch.Tensor, skip: torch.Tensor | None = None) -> torch.Tensor:
+    def forward(self, h: torch.Tensor) -> torch.Tensor:
         h = h.transpose(1, 2)  # (B, H, T)
-        if self.skip is not None:
-            h = h + self.skip(skip.transpose(1, 2))
         return self.out(nn.functional.leaky_relu(self.blocks(h))).transpose(1, 2)
 
 
@@ -124,10 +116,8 @@ class AdainTransfer(nn.Module):
 
     def __init__(self, cfg: AdainConfig | dict | None = None, mean=None, std=None):
         super().__init__()
-        if isinstance(cfg, dict):  # a stored config without shared_encoder predates it: a separate E_s
-            cfg = AdainConfig(**{"shared_encoder": False, "pretrain_steps": 0, **cfg})
-        cfg = cfg or AdainConfig()
-        self.cfg, self.config = cfg, asdict(cfg)
+        cfg = AdainConfig.from_dict(cfg) if isinstance(cfg, dict) else (cfg or AdainConfig.preset("course"))
+        self.cfg, self.config = cfg, cfg.to_dict()
         self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
                                                      dtype=torch.float32).clone())
         self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
@@ -162,8 +152,7 @@ class AdainTransfer(nn.Module):
         dims 0..3 (the root trajectory) are the content's. `code`: E_c(content) when already computed."""
         c = self.content_code(content) if code is None else code  # C_c (B, T, H)
         cs = adain(c, style_mu, style_sigma, mask, use_mean, use_std)  # A Eq. 2: C_{c→s}
-        skip = content - content.mean(1, keepdim=True) if self.cfg.content_skip else None  # (B, T, 263)
-        out = self.denormalize(self.decoder(cs, skip))  # P_{c→s} (B, T, 263)
+        out = self.denormalize(self.decoder(cs))  # P_{c→s} (B, T, 263)
         return torch.cat([self.denormalize(content)[..., ROOT_DIMS], out[..., 4:]], -1)
 
     def forward(self, content: torch.Tensor, style_features: torch.Tensor, use_mean=True, use_std=True,
@@ -235,76 +224,3 @@ class AdainTransfer(nn.Module):
         """Stylized joint positions (T, 22, 3) from unnormalised (T, 263) content and (S, 263) style features
         (`decode` gives one frame per feature row, as the release's recover_from_ric)."""
         return decode(self.transfer_features(content_features, style_features, use_mean, use_std, strength))
-
-
-# ---------------------------------------------------------------- data: (content clip, style clip) pairs
-class TransferPairs(Dataset):
-    """Item i = {"content": content clip i (normalised, cropped), "style": a style clip (unnormalised)};
-    the style clip is drawn at random in training and fixed per index otherwise."""
-
-    def __init__(self, content_folder, style_folder, split: str = "train", length: int = 64, seed: int = 0,
-                 random_style: bool = True):
-        self.content = ContentClips(content_folder, split, length=length, random_crop=split == "train", seed=seed)
-        self.style = StyleClips(style_folder, split, normalize=False, joints=False)
-        self.random_style, self.seed = random_style, seed
-
-    def __len__(self) -> int:
-        return len(self.content)
-
-    def __getitem__(self, i: int) -> dict:
-        j = int(torch.randint(len(self.style), ())) if self.random_style else (i * 7919 + self.seed) % len(self.style)
-        c, s = self.content[i], self.style[j]
-        return {"content": {"features": c["features"]}, "style": {"features": s["features"]}}
-
-
-def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cpu", steps=None, resume=None,
-                progress=True, config: AdainConfig | None = None, train_config: TrainConfig | None = None):
-    """Train the stage-1 model on the content and style folders; returns (model, history)."""
-    if preset not in PRESETS:
-        raise ValueError(f"preset: expected one of {sorted(PRESETS)}, got {preset!r}")
-    cfg, tcfg = PRESETS[preset]
-    cfg = config or cfg
-    tcfg = TrainConfig(**{**asdict(train_config or tcfg), "seed": seed, **({"steps": steps} if steps else {})})
-    train = TransferPairs(content, style, "train", cfg.clip_frames, seed)
-    val = TransferPairs(content, style, "val", cfg.clip_frames, seed, random_style=False)
-    model = AdainTransfer(cfg, train.content.mean, train.content.std)
-    # 1: E (and E_s) with the decoder, as an autoencoder; 2: the encoders frozen, the decoder on A Eq. 5
-    tcfg = pretrain_then_freeze(model, train, tcfg, cfg.pretrain_steps,
-                                filter(None, (model.content_encoder, model.style_encoder)), resume=resume,
-                                val_set=val, model_name="adain (autoencoder)", device=device, progress=progress)
-    history = fit(model, train, tcfg, val, model_name="adain", out=out, resume=resume,
-                  device=device, progress=progress)
-    return model, history
-
-
-def load_adain(path=None, device="cpu") -> AdainTransfer:
-    """The stage-1 model from a checkpoint (default: the packaged course one)."""
-    return load_model(path or course_path("adain"), "adain", AdainTransfer, device)
-
-
-def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
-    out = out or course_path("adain")
-    model, h = train_adain(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
-                           progress=progress)
-    pre = getattr(model, "pretrain_history", None)
-    extra = {"autoencoder_steps": pre["step"][-1], "autoencoder_val_content": round(pre["val"]["content"][-1], 4)} if pre else {}
-    return run_summary("adain", out, h, **extra, **{f"{part}_{k}": round(h[part][k][-1], 4)
-                                                   for part in ("train", "val") for k in ("content", "style")})
-
-
-TRAINABLE = {"adain": _run}
-
-
-# ---------------------------------------------------------------- bench registration (models/registry.py)
-from .registry import register  # noqa: E402
-
-
-@register("adain", "A stage 1: AdaIN transfer (content root path kept, decoder's stylized pose)")
-def bench_adain(device="cpu", path=None):
-    """Bench factory: transfer(content, style) → positions (T, 22, 3) with the course checkpoint."""
-    model = load_adain(path, device)
-
-    def transfer(content: dict, style: dict) -> np.ndarray:
-        return model.transfer(content["features"], style["features"])
-    transfer.n_parameters = sum(p.numel() for p in model.parameters())
-    return transfer

@@ -5,8 +5,8 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
-from ..data.corpora import take_of
-from ..data.datasets import MotionFolder
+from ...data.corpora import take_of
+from ...data.datasets import MotionFolder
 
 
 def check_pairs(pairs: str) -> str:

@@ -10,25 +10,23 @@ neutral-style transfer by the stage-1 model; at inference it corrects transfers 
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import torch
 from torch import nn
-from torch.utils.data import Dataset, TensorDataset
 
-from ..checkpoints import course_path, load_model
-from ..data.datasets import ContentClips, StyleClips
-from ..motion.features import N_FEATURES, check_features, decode
-from ..training import TrainConfig, fit, run_summary
-from .adain import ROOT_DIMS, load_adain
+from ...motion.features import N_FEATURES, check_features
+from ..common.config import Config
+from .model import ROOT_DIMS
 
 MODES = ("dual", "dynamic", "static")
 
 
 @dataclass
-class DsdnConfig:
-    """Sizes of the stage-2 model (A §3.3) and the loss weight of L_vel."""
+class DsdnConfig(Config):
+    """Sizes of the stage-2 model and the loss weight of L_vel; defaults are A §3.3's."""
 
     mode: str = "dual"  # "dual", "dynamic" (LSTM only) or "static" (conv AE only): A Table 2
     lstm_hidden: int = 128  # A §3.3.3
@@ -36,15 +34,10 @@ class DsdnConfig:
     static_channels: tuple = (256, 512)  # A §3.3.4: two Conv1d, kernel 4, stride 2, up to 512
     gate_hidden: int = 64  # A Eq. 8: W1 ∈ R^{64×D}
     lambda_vel: float = 1.0  # weight of L_vel (A Eq. 12) beside L_rec (A Eq. 11)
-    clip_frames: int = 64  # training crop length (feature rows), a multiple of 4
-    correction_strength: float = 0.5  # inference: κ in P + κ·(DSDN(P) − P); 1 = A's full correction
+    clip_frames: int = 196  # training crop length (feature rows), a multiple of 4
+    correction_strength: float = 1.0  # inference: κ in P + κ·(DSDN(P) − P); 1 = A's full correction
 
-
-PRESETS = {
-    "course": (DsdnConfig(), TrainConfig(steps=600, batch_size=32, lr=1e-3, warmup_steps=20, val_every=100,
-                                         val_batches=4)),
-    "paper": (DsdnConfig(clip_frames=196, correction_strength=1.0), TrainConfig(steps=20000, batch_size=64, lr=1e-3, val_every=500)),
-}
+    PRESETS: ClassVar[dict] = {"paper": {}, "course": dict(clip_frames=64, correction_strength=0.5)}
 
 
 class DynamicStream(nn.Module):
@@ -98,14 +91,10 @@ class DSDN(nn.Module):
 
     def __init__(self, cfg: DsdnConfig | dict | None = None, mean=None, std=None):
         super().__init__()
-        if isinstance(cfg, dict):
-            # a stored config without correction_strength predates it: those models corrected fully
-            cfg = DsdnConfig(**{"correction_strength": 1.0, **cfg,
-                                "static_channels": tuple(cfg.get("static_channels", (256, 512)))})
-        cfg = cfg or DsdnConfig()
+        cfg = DsdnConfig.from_dict(cfg) if isinstance(cfg, dict) else (cfg or DsdnConfig.preset("course"))
         if cfg.mode not in MODES:
             raise ValueError(f"mode: expected one of {MODES}, got {cfg.mode!r}")
-        self.cfg, self.config = cfg, {**asdict(cfg), "static_channels": list(cfg.static_channels)}
+        self.cfg, self.config = cfg, {**cfg.to_dict(), "static_channels": list(cfg.static_channels)}
         self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
                                                      dtype=torch.float32).clone())
         self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
@@ -178,78 +167,3 @@ def evaluate_pairs(model: DSDN, pairs, batch_size: int = 64) -> dict:
         sums = {key: sums[key] + k * float(logs[key]) for key in sums}
         n += k
     return {key: v / max(n, 1) for key, v in sums.items()}
-
-
-# ---------------------------------------------------------------- training pairs (A §4.3.1)
-def neutral_pairs(stage1, content_folder, style_folder, split: str, length: int, seed: int = 0):
-    """(noisy, clean) normalised tensors (N, length, 263): each content clip of the split and its
-    transfer to a neutral style clip of the same split by the stage-1 model."""
-    content = ContentClips(content_folder, split, normalize=False, length=length, random_crop=split == "train",
-                           seed=seed)
-    style = StyleClips(style_folder, split, normalize=False, joints=False)
-    neutral = [i for i, r in enumerate(style.rows) if r["style"] == "neutral"]
-    if not neutral:
-        raise ValueError(f"style_folder: no neutral clips in split {split!r} to build training pairs from")
-    rng = np.random.default_rng([seed, 7])
-    mean, std = stage1.mean.cpu().numpy(), stage1.std.cpu().numpy()
-    noisy, clean = [], []
-    for i in range(len(content)):
-        c = content[i]["features"].numpy().astype(np.float64)
-        s = style[neutral[int(rng.integers(len(neutral)))]]["features"].numpy()
-        noisy.append((stage1.transfer_features(c, s) - mean) / std)
-        clean.append((c - mean) / std)
-    return (torch.as_tensor(np.stack(noisy), dtype=torch.float32),
-            torch.as_tensor(np.stack(clean), dtype=torch.float32))
-
-
-def train_dsdn(preset: str, content, style, seed: int = 0, out=None, device="cpu", steps=None, resume=None,
-               progress=True, config: DsdnConfig | None = None, train_config: TrainConfig | None = None,
-               stage1=None, data=None):
-    """Train the stage-2 model on neutral-transfer pairs; returns (model, history).
-
-    data: precomputed ((noisy, clean) train, (noisy, clean) val) tensors, e.g. to train the three
-    ablation modes on the same pairs; default: built from the stage-1 model (`stage1`, default the
-    packaged adain checkpoint)."""
-    if preset not in PRESETS:
-        raise ValueError(f"preset: expected one of {sorted(PRESETS)}, got {preset!r}")
-    cfg, tcfg = PRESETS[preset]
-    cfg = config or cfg
-    tcfg = TrainConfig(**{**asdict(train_config or tcfg), "seed": seed, **({"steps": steps} if steps else {})})
-    stage1 = stage1 or load_adain(device="cpu")
-    if data is None:
-        data = tuple(neutral_pairs(stage1, content, style, split, cfg.clip_frames, seed) for split in ("train", "val"))
-    model = DSDN(cfg, stage1.mean.cpu(), stage1.std.cpu())
-    history = fit(model, TensorDataset(*data[0]), tcfg, TensorDataset(*data[1]), model_name="dsdn", out=out,
-                  resume=resume, device=device, progress=progress)
-    return model, history
-
-
-def load_dsdn(path=None, device="cpu") -> DSDN:
-    """The stage-2 model from a checkpoint (default: the packaged course one)."""
-    return load_model(path or course_path("dsdn"), "dsdn", DSDN, device)
-
-
-def _run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True) -> dict:
-    out = out or course_path("dsdn")
-    _, h = train_dsdn(preset, content, style, seed, out=out, device=device, steps=steps, resume=resume,
-                      progress=progress)
-    return run_summary("dsdn", out, h, **{f"{part}_{k}": round(h[part][k][-1], 4)
-                                          for part in ("train", "val") for k in ("rec", "vel")})
-
-
-TRAINABLE = {"dsdn": _run}
-
-
-# ---------------------------------------------------------------- bench registration
-from .registry import register  # noqa: E402
-
-
-@register("adain+dsdn", "A stages 1+2: AdaIN transfer, then the dual-stream correction")
-def bench_adain_dsdn(device="cpu"):
-    """Bench factory: stage 1 (course adain) then stage 2 (course dsdn) → positions (T, 22, 3)."""
-    stage1, stage2 = load_adain(device=device), load_dsdn(device=device)
-
-    def transfer(content: dict, style: dict) -> np.ndarray:
-        return decode(stage2.correct_features(stage1.transfer_features(content["features"], style["features"])))
-    transfer.n_parameters = sum(p.numel() for m in (stage1, stage2) for p in m.parameters())
-    return transfer

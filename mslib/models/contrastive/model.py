@@ -43,7 +43,6 @@ given `parameters=model.generator_parameters()`.
 """
 from __future__ import annotations
 
-import time
 from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
@@ -51,11 +50,10 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
-from ..checkpoints import course_path, load_state
-from ..motion.features import N_FEATURES, decode
-from ..training import TrainConfig, fit, pretrain_then_freeze, run_summary
-from .contrastive_data import PairedClips, check_pairs
-from .layers import ResBlock1d, adain
+from ...motion.features import N_FEATURES
+from ...training import TrainConfig
+from .data import check_pairs
+from ..common.layers import ResBlock1d, adain
 
 NAME = "contrastive"
 
@@ -447,64 +445,3 @@ class ContrastiveModel(nn.Module):
             x = torch.as_tensor(np.stack(clips[i:i + batch_size]), dtype=torch.float32, device=self.mean.device)
             codes.append(self.encode_style(self.normalize(x)).cpu().numpy())
         return np.concatenate(codes, 0)
-
-
-# ---------------------------------------------------------------- training and loading
-def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, device="cpu", resume=None,
-          progress: bool = True, exclude_styles=(), val: bool = True, checkpoint_every: int = 0):
-    """Build the model and data, run the one loop; returns (model, history). `checkpoint_every` > 0 also
-    saves `out` every that many phase-2 steps, so `resume=out` continues a cut run."""
-    torch.manual_seed(seed)
-    views = cfg.style_views > 0
-    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views)
-    model = ContrastiveModel(cfg, data.mean, data.std)
-    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views) if val else None
-    # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
-    tcfg = pretrain_then_freeze(model, data, replace(cfg.train_config(seed), checkpoint_every=checkpoint_every),
-                                cfg.pretrain_steps, [model.style_encoder],
-                                resume=resume, val_set=val_set, model_name=f"{NAME} (autoencoder)", device=device,
-                                progress=progress, parameters=model.generator_parameters())
-    history = fit(model, data, tcfg, val_set=val_set, model_name=NAME, out=out,
-                  resume=resume, device=device, progress=progress, parameters=model.generator_parameters())
-    return model, history
-
-
-def load(path=None, device="cpu") -> ContrastiveModel:
-    """The model stored in a checkpoint (default: the packaged course one), in eval mode."""
-    from ..checkpoints import read_checkpoint
-    path = course_path(NAME) if path is None else path
-    blob = read_checkpoint(path, NAME)
-    config = {"pairs": "across", **blob["config"]}  # checkpoints older than `pairs` were trained across the corpora
-    model = ContrastiveModel(ContrastiveConfig(**config))
-    load_state(path, model, NAME)
-    return model.to(device).eval()
-
-
-def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True):
-    """`python -m mslib train contrastive --preset course|paper`."""
-    cfg = ContrastiveConfig.preset(preset, **({"steps": int(steps)} if steps else {}))
-    out = out or course_path(NAME)
-    t0 = time.time()
-    model, history = train(cfg, content, style, seed, out, device, resume, progress)
-    tr = history["train"]
-    last = lambda k: round(float(np.mean(tr[k][-50:])), 4)  # noqa: E731
-    pre = getattr(model, "pretrain_history", None)
-    extra = {"autoencoder_steps": pre["step"][-1]} if pre else {}
-    return run_summary(NAME, out, history, seconds=round(time.time() - t0, 1), **extra,
-                       **{k: last(k) for k in ("rec", "nce", "tri", "adv", "d")})
-
-
-TRAINABLE = {NAME: run}
-
-from .registry import register  # noqa: E402
-
-
-@register(NAME, "paper C: content code + AdaIN from a style code, InfoNCE + triplet, no labels")
-def bench_contrastive(device="cpu"):
-    """Bench factory: transfer(content, style) → positions (T, 22, 3) with the course checkpoint."""
-    model = load(device=device)
-
-    def transfer(content, style):
-        return decode(model.transfer_features(content["features"], style["features"]))
-    transfer.n_parameters = sum(p.numel() for p in model.parameters())
-    return transfer

@@ -1,0 +1,14 @@
+"""Paper B: MCM-LDM, motion latent diffusion with content, trajectory and style conditions.
+
+    model.py     the denoiser: content concatenated, style and trajectory by AdaLN-Zero, the StyleRemover
+    train.py     the training recipe on frozen VAE latents and style embeddings
+    transfer.py  DDIM with classifier-free guidance, the packaged model at inference
+B's style extractor and the motion VAE are shared blocks (`mslib.models.common`).
+"""
+from ..common import style_extractor as _style_extractor
+from .model import MCMLDM, NAME, STYLE_WINDOW, TRAJ, Block, MCMConfig, StyleRemover, TrajectoryEncoder, auto_patch, patchify
+from .train import TensorSet, build_tensors, prepare, run, train_mcm
+from .transfer import Transfer, load_mcm_ldm, mcm_ldm_method
+
+METHODS = {NAME: (mcm_ldm_method, "B: latent diffusion with content/style/trajectory conditions, DDIM 50, CFG λ=2.5")}
+TRAINERS = {NAME: run, _style_extractor.NAME: _style_extractor.run}
