@@ -1,4 +1,4 @@
-"""Convert a folder of BVH files into a dataset folder (DESIGN.md §8) through the registration pipeline.
+"""Convert a folder of BVH files into a dataset folder (mslib/data/dataset_folder.py) through the registration pipeline.
 
     python -m data_prep.bvh IN_DIR OUT_DIR [--dialect NAME|auto] [--labels RULE] [--windows] [--force]
 

@@ -1,4 +1,4 @@
-"""Index a real HumanML3D folder into a dataset folder (DESIGN.md §8), linking instead of copying.
+"""Index a real HumanML3D folder into a dataset folder (mslib/data/dataset_folder.py), linking instead of copying.
 
     python -m data_prep.humanml3d HUMANML3D_DIR OUT_DIR [--force] [--copy]
 

@@ -3,6 +3,6 @@ __version__ = "0.1.0"
 
 
 def setup_notebook(seed: int = 0):
-    """Seed everything and make notebook output stable for nbval (DESIGN.md §5)."""
+    """Seed everything and make notebook output stable for nbval."""
     from .notebook import setup_notebook as _setup
     return _setup(seed)

@@ -1,4 +1,4 @@
-"""The command line: `python -m mslib COMMAND …` (DESIGN.md §8). `--json` ends stdout with one JSON line."""
+"""The command line: `python -m mslib COMMAND …`. `--json` ends stdout with one JSON line."""
 from __future__ import annotations
 
 import argparse

@@ -1,4 +1,4 @@
-"""The one training loop for every model (DESIGN.md §5), on one process or under torchrun (DDP).
+"""The one training loop for every model, on one process or under torchrun (DDP).
 
 A trainable model is an `nn.Module` with
     training_step(batch) -> dict with "loss" (a scalar tensor) and any floats to log,

@@ -7,7 +7,7 @@ Views (each a real camera, never a mirror image):
   top    camera above: screen up = +Z (forward), screen right = −X (the X axis runs right→left);
   3d     a 3/4 view from the front-left (mpl axes x = X, y = −Z shown as Z, z = Y).
 Colours: the character's left side blue, its right side red, the spine dark grey.
-Only `mslib.motion` is imported from the library (DESIGN.md §2).
+Only `mslib.motion` is imported from the library (layers import downward only).
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """ipywidgets explorers for the notebooks: a slider that redraws a matplotlib figure.
 
 Each explorer has a static twin (`render(value)` called directly) so nbval still checks the logic;
-the widget cell itself carries `# NBVAL_IGNORE_OUTPUT` (DESIGN.md §5). The browser test
+the widget cell itself carries `# NBVAL_IGNORE_OUTPUT`. The browser test
 (tests/test_browser_widgets.py) moves the slider of notebook 04 in headless Chromium.
 """
 from __future__ import annotations

@@ -31,7 +31,7 @@ def test_encode_reproduces_release_vector(shared_data):
     joints = np.load(shared_data / "humanml3d/new_joints/012314.npy")
     enc = F.encode(joints)
     assert enc.shape == (len(joints) - 1, 263) and enc.dtype == np.float32
-    for name, sl in F.BLOCKS.items():  # every block over the first 100 rows (FIELD_FACTS: smoothing edge)
+    for name, sl in F.BLOCKS.items():  # every block over the first 100 rows (the release's smoothing edge)
         err = np.abs(enc[:100, sl] - vec[:100, sl]).max()
         assert err <= 1e-4, f"block {name}: max abs error {err}"
     np.testing.assert_array_equal(enc[:, F.BLOCKS["contacts"]], vec[: len(enc), F.BLOCKS["contacts"]])

@@ -1,4 +1,5 @@
 """Shared model blocks: AdaIN statistics (A Eq. 2), masks, residual blocks, positions."""
+import pytest
 import torch
 
 from mslib.models.common.layers import PositionalEncoding, ResBlock1d, adain, channel_stats, sinusoid
@@ -47,3 +48,29 @@ def test_resblock_and_positions_shapes():
         assert "max_len" in str(e)
     else:
         raise AssertionError("expected a ValueError")
+
+
+def test_normalized_round_trip_and_buffers():
+    from mslib.models.common.layers import Normalized
+    mean, std = torch.randn(263), torch.rand(263) + 0.5
+    m = Normalized(mean.numpy(), std.numpy())
+    f = torch.randn(2, 5, 263)
+    torch.testing.assert_close(m.denormalize(m.normalize(f)), f)
+    torch.testing.assert_close(m.normalize(mean.expand(3, 263)), torch.zeros(3, 263))
+    assert set(m.state_dict()) == {"mean", "std"}  # the names every packaged checkpoint stores
+    plain = Normalized()
+    torch.testing.assert_close(plain.normalize(f), f)
+
+
+def test_pad_last_and_pad_batch_repeat_the_last_frame():
+    from mslib.models.common.layers import pad_batch, pad_last
+    x = torch.arange(6.0).reshape(3, 2)  # (T=3, C=2)
+    torch.testing.assert_close(pad_last(x, 5), torch.tensor([[0., 1], [2, 3], [4, 5], [4, 5], [4, 5]]))
+    assert pad_last(x, 2) is x  # never cuts
+    batched = pad_last(x[None].expand(4, -1, -1), 4)
+    assert batched.shape == (4, 4, 2) and torch.equal(batched[:, -1], batched[:, -2])
+    out, mask = pad_batch([x, x[:1]])
+    assert out.shape == (2, 3, 2) and mask.tolist() == [[True] * 3, [True, False, False]]
+    assert torch.equal(out[1], x[:1].expand(3, 2))
+    with pytest.raises(ValueError, match="clips"):
+        pad_batch([])

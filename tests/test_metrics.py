@@ -216,8 +216,8 @@ def test_foot_metrics_on_real_motions(shared_data):
     for name in ("walk_circle", "old", "Chicken_FW_00_feat"):
         motions.append(F.decode(np.load(shared_data / f"humanml3d_format/{name}.npy").astype(np.float64)))
     for m in motions:
-        assert 0.4 <= M.foot_slide_fsf(m) <= 1.8  # FIELD_FACTS: natural motion 0.5–1.7
-        assert 0.0 <= M.foot_skating_ratio_fsr(m) <= 0.4  # FIELD_FACTS: 0.0–0.38
+        assert 0.4 <= M.foot_slide_fsf(m) <= 1.8  # natural capture: 0.5–1.7 (the field's published range)
+        assert 0.0 <= M.foot_skating_ratio_fsr(m) <= 0.4  # natural capture: 0.0–0.38
 
 
 # ---------------------------------------------------------------- Gram / style / content

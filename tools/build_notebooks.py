@@ -1,10 +1,14 @@
 """Build notebooks/NN_name.ipynb from notebooks/src/NN_name.py (percent format) and execute them.
 
-    .venv/bin/python tools/build_notebooks.py [NAME ...]   # default: every source
+    .venv/bin/python tools/build_notebooks.py [NAME ...]                  # default: every source
+    .venv/bin/python tools/build_notebooks.py --sources-only [NAME ...]   # code moved, outputs kept
 
 Cells are separated by `# %%` (code) and `# %% [markdown]` (markdown, lines starting '# ').
 Each notebook runs top to bottom in a fresh kernel with notebooks/ as the working folder and is
-saved with its outputs, which nbval then compares (DESIGN.md §5). The kernels start with the numeric
+saved with its outputs, which nbval then compares. `--sources-only` writes the
+sources into the saved notebook and keeps its outputs, for a change that moves code without changing
+what it prints (an import path, a renamed function): nbval then checks that the new code still prints
+the stored outputs. It refuses when the cells no longer line up (a cell added, removed or retyped). The kernels start with the numeric
 code path the tests use (`mslib.cpu_paths`), meant to let a machine with AVX-512 write what one with AVX2
 checks (checked so far only on an AVX2 machine).
 """
@@ -73,10 +77,41 @@ def build(src: Path, timeout: int = 600) -> float:
     return time.time() - t0
 
 
+def sync_sources(src: Path) -> int:
+    """Write the source's cells into the saved notebook, keeping its outputs; returns how many cells changed."""
+    text = src.read_bytes().decode("utf-8")
+    bad = control_characters(text)
+    if bad:
+        raise ValueError(f"{src}: control characters on lines {bad} (a LaTeX backslash lost to an escape?)")
+    cells = parse_percent(text)
+    path = OUT / f"{src.stem}.ipynb"
+    nb = nbformat.read(path, as_version=4)
+    kinds = [c.cell_type for c in nb.cells]
+    if kinds != [k for k, _ in cells]:
+        raise ValueError(f"{path}: its cells no longer line up with {src} ({len(kinds)} saved, {len(cells)} in the "
+                         "source, or a cell changed kind); rebuild it: tools/build_notebooks.py " + src.stem)
+    changed = 0
+    for cell, (_, body) in zip(nb.cells, cells):
+        if cell.source != body:
+            cell.source, changed = body, changed + 1
+    if changed:
+        from mslib.fileio import atomic_write_bytes
+        atomic_write_bytes(path, (nbformat.writes(nb) + "\n").encode("utf-8"))
+    return changed
+
+
 if __name__ == "__main__":
-    names = sys.argv[1:]
+    args = sys.argv[1:]
+    if {"-h", "--help"} & set(args):
+        print(__doc__)
+        raise SystemExit(0)
+    sources_only = "--sources-only" in args
+    names = [a for a in args if a != "--sources-only"]
     sources = sorted(SRC.glob("*.py"))
     if names:
         sources = [s for s in sources if any(n in s.stem for n in names)]
     for s in sources:
-        print(f"{s.stem}: executed in {build(s):.1f} s", flush=True)
+        if sources_only:
+            print(f"{s.stem}: {sync_sources(s)} cells' sources updated, outputs kept", flush=True)
+        else:
+            print(f"{s.stem}: executed in {build(s):.1f} s", flush=True)

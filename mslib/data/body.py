@@ -1,4 +1,4 @@
-"""The generator's body and its joint-angle vocabulary (built-in data, DESIGN.md §3).
+"""The generator's body and its joint-angle vocabulary (the built-in data).
 
 The body is the HumanML3D 22-joint tree with the reference bone lengths (left and right averaged),
 but with a *natural* rest geometry instead of the template's axis-aligned directions: hips below

@@ -2,7 +2,7 @@
 
     BUILD/
       build.json          generator version, seed, sizes, counts, build seconds (written last)
-      content/            dataset folder (DESIGN §8): 20 fps, 2–10 s, every content, mild random
+      content/            dataset folder (mslib/data/dataset_folder.py): 20 fps, 2–10 s, every content, mild random
                           style (style labels kept for evaluation only), captions, 80/10/10 split
       style/              dataset folder: 32-frame windows (8-frame overlap) of the style takes at
                           20 fps, style + sub-style + content labels, captions naming the style,

@@ -1,4 +1,4 @@
-"""The dataset-folder format (DESIGN.md §8): what data_prep writes and every loader reads.
+"""The dataset-folder format: what data_prep writes and every loader reads.
 
     DATASET/
       meta.json            {"name", "fps": 20, "skeleton": "humanml3d-22", "format_version", "source", ...}
@@ -105,7 +105,7 @@ def read_labels(folder) -> list:
     """The rows of a dataset folder's labels.csv as dicts (a ValueError names a malformed file)."""
     path = Path(folder) / "labels.csv"
     if not path.is_file():
-        raise ValueError(f"{folder}: not a dataset folder (no labels.csv); see DESIGN.md §8 or data_prep")
+        raise ValueError(f"{folder}: not a dataset folder (no labels.csv); see mslib/data/dataset_folder.py or data_prep/README.md")
     with open(path, newline="", encoding="utf-8") as fh:
         reader = csv.DictReader(fh)
         missing = [c for c in LABEL_COLUMNS if c not in (reader.fieldnames or [])]

@@ -1,4 +1,4 @@
-"""torch Datasets over dataset folders (DESIGN §8): any motion folder, content clips, style clips,
+"""torch Datasets over dataset folders (mslib/data/dataset_folder.py): any motion folder, content clips, style clips,
 and the held-out benchmark pairs (content test clip, style test clip) drawn from a seed.
 
 Items are dicts: "features" (T−1, 263) float32 — normalised with the folder's mean/std unless

@@ -1,8 +1,8 @@
 """The style corpus's "mocap" skeleton: 32 joints, other names, a T-pose rest, centimetres, 30 fps.
 
 Paper A's benchmark mixes datasets recorded on different skeletons; the built-in style corpus
-imitates that. Its takes are written as BVH files on this skeleton, and a retargeting step (DESIGN
-§4, notebook 01) brings them back to the HumanML3D template.
+imitates that. Its takes are written as BVH files on this skeleton, and a retargeting step (mslib/data/retarget.py,
+notebook 01) brings them back to the HumanML3D template.
 
 Design — every template joint coincides with a mocap joint, so retargeting can recover the template
 motion exactly:

@@ -1,6 +1,6 @@
 """Cross-dataset registration (A §3.1, §4.1): any BVH → the HumanML3D body, 20 fps, canonical frame.
 
-The steps, in the order HumanML3D preprocesses (FIELD_FACTS.md):
+The steps, in the order HumanML3D preprocesses:
   1. resample the source to 20 fps (local rotations by slerp, translations linearly);
   2. forward kinematics on the source skeleton; up axis → +Y, handedness → right-handed;
   3. pick the 22 template joints through a joint map (joint_maps.py);

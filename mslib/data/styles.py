@@ -1,4 +1,4 @@
-"""Style and content tables of the built-in stylized mocap (DESIGN.md §3).
+"""Style and content tables of the built-in stylized mocap.
 
 A *style* is a distribution over a flat set of motion parameters (PARAMS): posture angles in degrees,
 amplitude and tempo multipliers, and dynamics. Every style has a mean per parameter (NEUTRAL where

@@ -1,4 +1,4 @@
-"""The built-in stylized mocap generator (DESIGN.md §3): one clip from (content, style, seed, index).
+"""The built-in stylized mocap generator: one clip from (content, style, seed, index).
 
 Pipeline of `generate_clip`:
     style + content parameters → joint-angle plan driven by a gait/action phase (gait.py, actions.py)

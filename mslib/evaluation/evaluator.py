@@ -1,4 +1,4 @@
-"""The independent evaluator (DESIGN.md §7): content and style classifiers on joint positions.
+"""The independent evaluator: content and style classifiers on joint positions.
 
 Input per frame: the root height and the 21 joints relative to the root's ground point in the
 facing frame (the HumanML3D "ric" block, i.e. positions with the root trajectory removed), 64-d.

@@ -1,12 +1,12 @@
-"""Evaluation metrics (FIELD_FACTS.md "Metrics", DESIGN.md §7–8): pure functions on numpy arrays.
+"""Evaluation metrics, each defined in its docstring: pure functions on numpy arrays.
 
 Motions are joint positions (T, 22, 3) in metres, Y up, 20 fps, HumanML3D joint order; feature
 sets are (N, D) arrays from the independent evaluator. Nothing here imports `mslib.models`.
 
 Definitional choices (the field leaves room; these are the workbook's):
 - FSF counts a (foot, frame t) step t→t+1 as "in contact" when that foot is below `height` at
-  BOTH t and t+1, the same contact test as FSR. Measured on the real HumanML3D-format motions in
-  ../shared/data this gives 0.50–1.69 cm/frame, the range FIELD_FACTS quotes; testing frame t only
+  BOTH t and t+1, the same contact test as FSR. Measured on real HumanML3D motions
+  this gives 0.50–1.69 cm/frame, the field's published range for natural capture; testing frame t only
   counts take-off steps (a jump scores 5.3 instead of 1.1). Steps of both feet are pooled.
 - FSR follows SMooDi/GMD: the 5-frame moving average is centred with zeros beyond the clip ends,
   and the ratio is over the T−1 velocity frames.

@@ -1,4 +1,5 @@
-"""The HumanML3D 263-d motion vector: encode positions, decode back, normalise (FIELD_FACTS.md).
+"""The HumanML3D 263-d motion vector: encode positions, decode back, normalise (the release's conventions,
+documented below).
 
 Per frame t (T positions give T−1 rows, velocities need frame t+1):
     [0]        root angular velocity about Y — half the yaw step (arcsin of the step quaternion's y)
@@ -37,7 +38,7 @@ BLOCKS = {  # name → slice of the 263-d vector
 TRAJECTORY_DIMS = slice(0, 3)  # what paper B's trajectory condition reads
 CONTACT_JOINTS = (7, 10, 8, 11)
 CONTACT_THRESHOLD = 0.002  # summed squared displacement per frame, m²
-FACE_JOINTS = (1, 2, 17, 16)  # the IK path's face vector: (p1 − p2) + (p17 − p16), FIELD_FACTS.md
+FACE_JOINTS = (1, 2, 17, 16)  # the IK path's face vector: (p1 − p2) + (p17 − p16) (the release's choice)
 FORWARD_SMOOTHING_SIGMA = 20  # frames
 
 
@@ -81,7 +82,7 @@ def root_rotations(positions) -> np.ndarray:
     """(T, 4) root quaternions taking the smoothed facing direction onto +Z; frame 0 = identity."""
     p = np.asarray(positions, dtype=np.float64)
     a, b, c, d = FACE_JOINTS
-    across = (p[:, a] - p[:, b]) + (p[:, c] - p[:, d])  # the release's sign quirk, FIELD_FACTS.md
+    across = (p[:, a] - p[:, b]) + (p[:, c] - p[:, d])  # the release's sign quirk
     across = rot.normalize(across)
     forward = np.cross(np.array([0.0, 1.0, 0.0]), across)
     forward = gaussian_filter1d(forward, FORWARD_SMOOTHING_SIGMA, axis=0, mode="nearest")
@@ -188,7 +189,7 @@ def block_averaged_std(std) -> np.ndarray:
 
 
 class Normalizer:
-    """(x − mean) / std over the 263 dims, with the std averaged per block (FIELD_FACTS.md)."""
+    """(x − mean) / std over the 263 dims, with the std averaged per block, as the release does."""
 
     def __init__(self, mean, std, eps: float = 1e-8):
         mean, std = np.asarray(mean, np.float32), np.asarray(std, np.float32)

@@ -1,4 +1,4 @@
-"""Skeletons and forward kinematics; the HumanML3D 22-joint template (FIELD_FACTS.md).
+"""Skeletons and forward kinematics; the HumanML3D 22-joint template.
 
 A `Skeleton` is a joint tree: names, parent indices (parents before children) and rest offsets
 (each joint's position relative to its parent in the rest pose). Forward kinematics follows the
@@ -24,7 +24,7 @@ JOINT_NAMES = (
 PARENTS = (-1, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9, 12, 13, 14, 16, 17, 18, 19)
 KINEMATIC_CHAINS = ((0, 2, 5, 8, 11), (0, 1, 4, 7, 10), (0, 3, 6, 9, 12, 15),
                     (9, 14, 17, 19, 21), (9, 13, 16, 18, 20))
-# unit rest directions, joint from parent (FIELD_FACTS.md); +X is the character's left
+# unit rest directions, joint from parent; +X is the character's left
 REST_DIRECTIONS = np.array([
     [0, 0, 0], [1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, -1, 0], [0, 1, 0], [0, -1, 0],
     [0, -1, 0], [0, 1, 0], [0, 0, 1], [0, 0, 1], [0, 1, 0], [1, 0, 0], [-1, 0, 0], [0, 0, 1],

@@ -19,7 +19,6 @@
 import mslib
 mslib.setup_notebook(seed=0)
 
-from pathlib import Path
 
 import numpy as np
 import torch
@@ -289,9 +288,8 @@ print(f"H: adain − identity {h['adain'] - h['identity']:+.2f}, adain − copy_
 # was chosen (on val pairs, before the benchmark was run).
 
 # %%
-import json
-VARIANTS_JSON = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "02_adain_variants.json"
-found = json.loads(VARIANTS_JSON.read_text()) if VARIANTS_JSON.is_file() else {}
+from mslib.notebook import load_findings
+found = load_findings("02_adain_variants", required=False)  # written by tools/adain_variants.py
 if "variants" in found:
     print(f"{'variant':<16} {'w':>5} {'CRA':>6} {'SRA':>6} {'H':>6}   ({found['variants']['val_pairs']} val pairs, "
           f"{found['variants']['steps']} decoder steps)")

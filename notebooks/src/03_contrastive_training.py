@@ -31,7 +31,8 @@ from mslib.data.corpora import load_builtin
 from mslib.data.datasets import MotionFolder
 from mslib.data.styles import STYLES
 from mslib.models import contrastive as C
-from mslib.models import contrastive_analysis as CA
+from mslib.evaluation import embedding as E
+from mslib.notebook import load_findings
 from mslib.motion.features import decode
 
 paths = load_builtin(seed=0, progress=False)
@@ -220,10 +221,7 @@ _ = fig
 # each model); this cell reads its JSON.
 
 # %%
-import json
-from pathlib import Path
-RECIPES_JSON = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "03_contrastive_recipes.json"
-recipes = json.loads(RECIPES_JSON.read_text())
+recipes = load_findings("03_contrastive_recipes")  # written by tools/contrastive_findings.py
 print(recipes["val_pairs"], "val pairs; scored by")
 for command in dict.fromkeys(r["command"] for r in recipes["rows"]):
     print(" ", command)
@@ -656,15 +654,14 @@ HTML(viz.animation_html([shown[0][0]["joints"], shown[0][1]["joints"], outs[0]],
 # preset's `style_views` (§4), so what shapes their codes is C's terms alone. They take about ten CPU minutes, too long for a
 # notebook, so they were made once by the command
 #
-#     python -m mslib.models.contrastive_analysis
+#     python tools/contrastive_analysis.py
 #
-# which writes `mslib/checkpoints/contrastive_findings.json` (tables, silhouettes and the t-SNE points
-# of the held-out style codes). The next cell **loads that file if it exists, else computes it** with
-# the same code (`CA.findings`). Style labels are read only to colour and score the codes, never
-# in training.
+# which writes `notebooks/data/03_contrastive_findings.json` (tables, silhouettes and the t-SNE points
+# of the held-out style codes). The next cell **loads that file**. Style labels are read only to colour
+# and score the codes, never in training.
 
 # %%
-results = CA.findings(paths["content"], paths["style"])
+results = load_findings("03_contrastive_findings")
 labels = np.array(results["labels"])
 print("short runs:", results["steps"], "steps each; held-out style clips:", len(labels))
 
@@ -704,12 +701,12 @@ print("C Fig. 2's claim (silhouette with > without):", results["with"]["silhouet
 # judge makes of the style:
 
 # %%
-clips_test, labels_test, contents_test, takes_test = CA.style_clips(paths["style"], "test", with_content=True)
+clips_test, labels_test, contents_test, takes_test = E.style_clips(paths["style"], "test", with_content=True)
 course_codes = model.style_codes(clips_test)
-course_scores = CA.code_scores(course_codes, labels_test, contents_test, takes_test)
+course_scores = E.code_scores(course_codes, labels_test, contents_test, takes_test)
 print("course model:", {k: round(v, 3) for k, v in course_scores.items()})
 print(f"its 1-NN style accuracy if a window of the same take may be the neighbour: "
-      f"{CA.nn_accuracy(course_codes, labels_test):.3f} ({len(set(takes_test))} takes, {len(takes_test)} clips)")
+      f"{E.nn_accuracy(course_codes, labels_test):.3f} ({len(set(takes_test))} takes, {len(takes_test)} clips)")
 
 # %% [markdown]
 # ### (b) The β sweep (C Table 1)
@@ -742,7 +739,7 @@ pick = {s: next(i for i, r in enumerate(style_test.rows) if r["style"] == s and 
         for s in ("depressed", "proud")}
 walk = next(c for c, _ in pairs if c["content"] == "walk")
 weights = (0.0, 0.3, 0.6, 1.0)
-strip = CA.interpolate_styles(model, walk["features"], style_test._arrays(pick["depressed"])[0],
+strip = C.interpolate_styles(model, walk["features"], style_test._arrays(pick["depressed"])[0],
                               style_test._arrays(pick["proud"])[0], weights)
 fig = viz.plot_strip(strip, n_frames=5, view="side", titles=[f"depressed → proud, w = {w}" for w in weights])
 _ = fig

@@ -366,11 +366,9 @@ _ = fig
 # measurement of that script, not a typed-in number.
 
 # %%
-import json
-from pathlib import Path
 from mslib.checkpoints import checkpoint_digest
-abl_path = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "04_ablations.json"
-abl = json.loads(abl_path.read_text()) if abl_path.is_file() else None
+from mslib.notebook import load_findings
+abl = load_findings("04_ablations", required=False) or None  # written by tools/mcm_ldm_ablations.py
 now = {"arch": getattr(cfg, "arch", "transformer"), "latent_tokens": cfg.latent_tokens, "latent_dim": cfg.latent_dim}
 stale = abl is not None and abl.get("vae") != now
 if stale:

@@ -20,9 +20,8 @@
 import mslib
 mslib.setup_notebook(seed=0)
 
-import json
+from mslib.notebook import load_findings
 from dataclasses import asdict
-from pathlib import Path
 
 import numpy as np
 import torch
@@ -136,7 +135,7 @@ print(f"no correction (noisy vs clean) L_rec val {(val_pairs[0] - val_pairs[1]).
 # below recomputes the dual row from the packaged checkpoint.
 
 # %%
-ablation = json.loads(Path("data/05_dsdn_ablation.json").read_text())
+ablation = load_findings("05_dsdn_ablation")
 print(f"{'mode':<8} {'train L_rec':>11} {'val L_rec':>9} {'train L_vel':>11} {'val L_vel':>9}")
 for r in ablation["rows"]:
     print(f"{r['mode']:<8} {r['train_rec']:>11.3f} {r['val_rec']:>9.3f} {r['train_vel']:>11.3f} {r['val_vel']:>9.3f}")

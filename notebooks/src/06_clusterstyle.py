@@ -19,14 +19,13 @@
 #   and style transfer by SDEdit at several noise levels;
 # - the benchmark row and the measured D Fig. 5 / Table 3 findings.
 #
-# Paper D's text lost its equations; they are restated in DESIGN.md §6 and written out below.
+# Paper D's text lost its equations; they are written out below, and in the docstrings of `mslib/models/clusterstyle/`.
 
 # %%
 import mslib
 mslib.setup_notebook(seed=0)
 
-import json
-from pathlib import Path
+from mslib.notebook import load_findings
 
 import numpy as np
 import torch
@@ -300,8 +299,7 @@ _ = fig
 
 # %%
 from mslib.checkpoints import checkpoint_digest
-FINDINGS = Path(mslib.__file__).parent.parent / "notebooks" / "data" / "06_clusterstyle_findings.json"
-findings = json.loads(FINDINGS.read_text()) if FINDINGS.is_file() else {}
+findings = load_findings("06_clusterstyle_findings", required=False)  # written by tools/clusterstyle_findings.py
 latent_now = [pipe.vae.cfg.latent_tokens, pipe.vae.cfg.latent_dim]
 for key, part in findings.items():  # a section measured on another course VAE or ClusterStyle checkpoint
     name = "clusterstyle_t2m" if key == "table3" else "clusterstyle"

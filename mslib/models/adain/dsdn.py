@@ -1,12 +1,19 @@
-"""Paper A stage 2: the Dual-Stream Denoising Network with adaptive gating (A §3.3, DESIGN.md §7).
+"""Paper A stage 2: the Dual-Stream Denoising Network with adaptive gating (A §3.3).
 
-Dynamic stream: a 1-layer LSTM (hidden 128) over the raw 263-d sequence and a two-layer regressor
-(A Eq. 6). Static stream: a conv autoencoder, two Conv1d (kernel 4, stride 2) up to 512 channels
-(T' = T/4) and a mirrored transposed-conv decoder (A Eq. 7). The Adaptive Gating Fusion Unit gives a
-per-frame weight α = Softplus(W2 tanh(W1 x + b1) + b2) (A Eq. 8–10); output α·dynamic + (1−α)·static.
-Losses L_rec (A Eq. 11) and L_vel (A Eq. 12). Training pairs (A §4.3.1): a content motion and its
-neutral-style transfer by the stage-1 model; at inference it corrects transfers to any style.
-`mode` = "dual" | "dynamic" | "static" gives the single-stream ablations of A Table 2.
+The idea: a stage-1 transfer carries two kinds of error — fast, frame-to-frame jitter and slow drift of
+the pose — and each is best removed by a different network, mixed frame by frame.
+- Dynamic stream (A Eq. 6): a 1-layer LSTM (hidden 128) over the noisy 263-d sequence and a two-layer
+  regressor, X_dyn = W2·tanh(W1·h_t + b1) + b2.
+- Static stream (A Eq. 7): a conv autoencoder, two Conv1d (kernel 4, stride 2) up to 512 channels
+  (T' = T/4) and a mirrored transposed-conv decoder.
+- Adaptive Gating Fusion Unit (A Eq. 8–10): α_t = Softplus(W2·tanh(W1·x_t + b1) + b2) per frame, and the
+  output P_o = α·X_dyn + (1 − α)·P̂_static (W2 is 1×64: the paper's 1×32 does not match W1's 64 rows).
+Losses: L_rec = ‖P_o − P_c‖₁ against the clean content (A Eq. 11) and L_vel = ‖P_o[1:] − P_o[:−1]‖₁, the
+output's own frame-to-frame change (A Eq. 12).
+Training pairs (A §4.3.1): a content motion and its transfer to a neutral style clip by the stage-1 model;
+at inference it corrects transfers to any style. `mode` = "dual" | "dynamic" | "static" gives the
+single-stream ablations of A Table 2; `correction_strength` κ applies P + κ·(DSDN(P) − P) (κ = 1: A's full
+correction; the course preset's smaller κ keeps more of the stage-1 style).
 """
 from __future__ import annotations
 
@@ -19,6 +26,7 @@ from torch import nn
 
 from ...motion.features import N_FEATURES, check_features
 from ..common.config import Config
+from ..common.layers import Normalized, pad_last
 from .model import ROOT_DIMS
 
 MODES = ("dual", "dynamic", "static")
@@ -67,9 +75,7 @@ class StaticStream(nn.Module):
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         T = x.shape[1]
-        pad = (-T) % 4  # the two stride-2 layers need T divisible by 4: repeat the last frame
-        if pad:
-            x = torch.cat([x, x[:, -1:].expand(-1, pad, -1)], 1)
+        x = pad_last(x, T + (-T) % 4)  # the two stride-2 layers need T divisible by 4: repeat the last frame
         code = self.encoder(x.transpose(1, 2))  # C_s (B, 512, T/4)
         return self.decoder(code).transpose(1, 2)[:, :T]  # P̂ (B, T, D)
 
@@ -86,19 +92,15 @@ class GatingUnit(nn.Module):
         return nn.functional.softplus(self.w2(torch.tanh(self.w1(x))))  # A Eq. 10
 
 
-class DSDN(nn.Module):
+class DSDN(Normalized):
     """Dual-stream denoiser on normalised 263-d features; `mode` picks dual or a single stream."""
 
     def __init__(self, cfg: DsdnConfig | dict | None = None, mean=None, std=None):
-        super().__init__()
+        super().__init__(mean, std)
         cfg = DsdnConfig.from_dict(cfg) if isinstance(cfg, dict) else (cfg or DsdnConfig.preset("course"))
         if cfg.mode not in MODES:
             raise ValueError(f"mode: expected one of {MODES}, got {cfg.mode!r}")
         self.cfg, self.config = cfg, {**cfg.to_dict(), "static_channels": list(cfg.static_channels)}
-        self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
-                                                     dtype=torch.float32).clone())
-        self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
-                                                    dtype=torch.float32).clone())
         self.dynamic = DynamicStream(cfg) if cfg.mode in ("dual", "dynamic") else None
         self.static = StaticStream(cfg) if cfg.mode in ("dual", "static") else None
         self.gate = GatingUnit(cfg) if cfg.mode == "dual" else None

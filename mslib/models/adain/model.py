@@ -1,21 +1,33 @@
-"""Paper A stage 1: AdaIN style transfer with dual-path training (A §3.2, DESIGN.md §7).
+"""Paper A stage 1: AdaIN style transfer with dual-path training (A §3.2).
 
-Content encoder on normalised 263-d content features; AdaIN over time (A Eq. 2) with mean-only /
-variance-only switches; a conv decoder back to 263-d. Training (A §3.2.2): a self-reconstruction path
-on content clips (A Eq. 4) and a stylization path with style clips from the retargeted style corpus
-(A Eq. 3), cross-dataset as in A §4.1; total A Eq. 5. The output keeps the content's root trajectory
-(dims 0..3) — the root path is content, not style.
+The idea: a motion's style lives in the statistics over time of its feature channels, its content in
+their pattern. An encoder E_c maps normalised 263-d content features to channels C_c (B, T, H); AdaIN
+(A Eq. 2) replaces their mean and spread over time by those of the style motion's channels C_s,
 
-Two ways to get the style statistics (`AdainConfig.shared_encoder`):
-- False (A §3.2.1 as written, the `paper` preset): a separate simplified transformer style encoder E_s
-  on the style motion's joint positions (T×22×3, root path removed, facing frame), trained jointly.
-- True (the `course` preset): one encoder E for content and style, so AdaIN moves the statistics of the
-  *same* channels, as in the image methods A builds on (A §3.2.1 cites [11, 12]: Gatys et al., Huang &
-  Belongie). E and the decoder are first trained as an autoencoder (`pretrain_steps`, the two
-  reconstruction paths only); then E is frozen and is the network A Eq. 3 measures the stylized motion
-  with (Huang & Belongie's fixed encoder), and the decoder trains on A Eq. 5.
-  Why: with the jointly trained E_s the style term can be met by E_s itself (it learns statistics that
-  barely depend on the motion), and the course model ignored the style (SRA 13 %, tools/adain_variants.py).
+    AdaIN(C_c, C_s) = σ(C_s) · (C_c − μ(C_c)) / σ(C_c) + μ(C_s),
+
+and a conv decoder turns the result back into 263-d features. Switching off either half gives A Fig. 2's
+mean-only and variance-only transfers (`use_mean`, `use_std`). The output keeps the content's root
+trajectory (dims 0..3): the path walked is content, not style.
+
+Training follows two paths at once (A §3.2.2): the self-reconstruction path decodes a content clip with its
+own statistics, L_content = ‖P_{c→c} − P_c‖₁ (A Eq. 4); the stylization path decodes it with a style clip's
+statistics and asks the stylized motion's statistics to match the style's,
+L_style = ‖μ(E_s(P_{c→s})) − μ(E_s(P_s))‖² + ‖σ(E_s(P_{c→s})) − σ(E_s(P_s))‖² (A Eq. 3); total
+L = λ_style L_style + λ_content L_content (A Eq. 5). The style clips come from the other, retargeted corpus
+(cross-dataset, A §4.1).
+
+Where the statistics come from (`AdainConfig.shared_encoder`):
+- False (A §3.2.1 as written, the `paper` preset): a separate small transformer E_s on the style motion's
+  joint positions (T×22×3, root path removed, facing frame), trained jointly with E_c and the decoder.
+- True (the `course` preset, a departure): one encoder E for content and style, so AdaIN moves the
+  statistics of the *same* channels, as in the image methods A builds on (A §3.2.1 cites Gatys et al. and
+  Huang & Belongie). E and the decoder first train as an autoencoder (`pretrain_steps`, the reconstruction
+  paths only); then E is frozen and is the network A Eq. 3 measures with — Huang & Belongie's fixed encoder —
+  while the decoder trains on A Eq. 5. Why: a jointly trained E_s can meet A Eq. 3 by itself, learning
+  statistics that barely depend on the motion, and then the decoder is never asked to move the style
+  (notebook 02 compares the variants).
+Also a workbook addition: `style_recon` runs A Eq. 4 on the style clips too, so the decoder learns their poses.
 """
 from __future__ import annotations
 
@@ -28,7 +40,7 @@ from torch import nn
 
 from ...motion.features import BLOCKS, N_FEATURES, N_JOINTS, check_features, decode
 from ..common.config import Config
-from ..common.layers import PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
+from ..common.layers import Normalized, PositionalEncoding, ResBlock1d, adain, channel_stats, transformer_encoder
 
 ROOT_DIMS = slice(0, 4)  # root angular velocity, XZ velocity, height: kept from the content
 
@@ -109,29 +121,19 @@ class Decoder(nn.Module):
         return self.out(nn.functional.leaky_relu(self.blocks(h))).transpose(1, 2)
 
 
-class AdainTransfer(nn.Module):
+class AdainTransfer(Normalized):
     """The stage-1 model: E_c (and E_s unless shared), AdaIN, decoder, and the dual-path losses (A Eq. 3–5)."""
 
     pretraining = False  # True while `train_adain` runs the autoencoder steps (reconstruction losses only)
 
     def __init__(self, cfg: AdainConfig | dict | None = None, mean=None, std=None):
-        super().__init__()
+        super().__init__(mean, std)
         cfg = AdainConfig.from_dict(cfg) if isinstance(cfg, dict) else (cfg or AdainConfig.preset("course"))
         self.cfg, self.config = cfg, cfg.to_dict()
-        self.register_buffer("mean", torch.as_tensor(np.zeros(N_FEATURES) if mean is None else mean,
-                                                     dtype=torch.float32).clone())
-        self.register_buffer("std", torch.as_tensor(np.ones(N_FEATURES) if std is None else std,
-                                                    dtype=torch.float32).clone())
         self.content_encoder, self.decoder = ContentEncoder(cfg), Decoder(cfg)
         self.style_encoder = None if cfg.shared_encoder else StyleEncoder(cfg)
 
     # ------------------------------------------------------------ pieces
-    def normalize(self, f: torch.Tensor) -> torch.Tensor:
-        return (f - self.mean) / self.std
-
-    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
-        return x * self.std + self.mean
-
     def content_code(self, content: torch.Tensor) -> torch.Tensor:
         """C_c (B, T, H) of normalised content (B, T, 263); with a separate E_s, of the content minus its
         mean over time (its level must then come from the AdaIN statistics)."""

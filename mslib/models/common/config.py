@@ -11,6 +11,8 @@ never trains a model silently without the change it asked for.
 `RETIRED` lists options that research recipes once had and the library no longer does (they live in
 the history, at the commit named in `RETIRED_AT`): a stored config holding such a key with the value
 the library now always uses loads as before; with any other value it is refused, naming the option.
+`STORED_BESIDE` names what a checkpoint's dict keeps next to the fields (a tokenizer's vocabulary, a
+sub-model's config), which its owner reads and `from_dict` skips.
 """
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ class Config:
 
     PRESETS: ClassVar[dict] = {"paper": {}, "course": {}}
     RETIRED: ClassVar[dict] = {}  # option → the value the library now always uses
+    STORED_BESIDE: ClassVar[tuple] = ()  # keys a checkpoint keeps beside the fields (read by their owner, skipped here)
 
     @classmethod
     def preset(cls, name: str = "course", **overrides):
@@ -37,7 +40,7 @@ class Config:
     @classmethod
     def from_dict(cls, d: dict, what: str | None = None):
         """A config from a plain dict (a checkpoint's, JSON's); unknown keys are a ValueError naming them."""
-        d = dict(d)
+        d = {k: v for k, v in d.items() if k not in cls.STORED_BESIDE}
         for key, kept in cls.RETIRED.items():
             if key in d and d.pop(key) != kept:
                 raise ValueError(f"{what or cls.__name__}: option {key!r} was removed from the library (it only served "

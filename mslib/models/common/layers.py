@@ -1,5 +1,6 @@
 """Blocks shared by the method modules: channel statistics and AdaIN, residual conv blocks,
-sinusoidal positions and timestep embeddings, transformer encoders. Shapes are (B, T, D) at
+sinusoidal positions and timestep embeddings, transformer encoders, the 263-d normaliser and last-frame
+padding. Shapes are (B, T, D) at
 module boundaries unless a docstring says (B, C, T) (the Conv1d layout)."""
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import math
 
 import torch
 from torch import nn
+
+from ...motion.features import N_FEATURES
 
 EPS = 1e-5
 
@@ -89,3 +92,40 @@ def transformer_encoder(dim: int, heads: int, layers: int, ff_mult: int = 4, dro
     layer = nn.TransformerEncoderLayer(dim, heads, ff_mult * dim, dropout, activation="gelu",
                                        batch_first=True, norm_first=True)
     return nn.TransformerEncoder(layer, layers, enable_nested_tensor=False)
+
+
+class Normalized(nn.Module):
+    """Base of the models that hold their training corpus's 263-d mean and std (buffers `mean`, `std`, saved
+    with the weights) and move features between raw and normalised units: x = (f − μ) / σ, f = x·σ + μ."""
+
+    def __init__(self, mean=None, std=None):
+        super().__init__()
+        self.register_buffer("mean", torch.zeros(N_FEATURES) if mean is None else
+                             torch.as_tensor(mean, dtype=torch.float32).clone())  # (263,)
+        self.register_buffer("std", torch.ones(N_FEATURES) if std is None else
+                             torch.as_tensor(std, dtype=torch.float32).clone())  # (263,)
+
+    def normalize(self, f: torch.Tensor) -> torch.Tensor:
+        """Raw (…, 263) → normalised."""
+        return (f - self.mean) / self.std
+
+    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
+        """Normalised (…, 263) → raw."""
+        return x * self.std + self.mean
+
+
+def pad_last(x: torch.Tensor, length: int) -> torch.Tensor:
+    """(…, T, C) → (…, length, C), longer clips repeating their last frame (a held pose, not a jump to zero)."""
+    extra = int(length) - x.shape[-2]
+    if extra <= 0:
+        return x
+    return torch.cat([x, x[..., -1:, :].expand(*x.shape[:-2], extra, x.shape[-1])], -2)
+
+
+def pad_batch(clips: list) -> tuple:
+    """A list of (T_i, C) tensors → (B, max T, C), each padded with its last frame, and mask (B, max T) True on frames."""
+    if not clips:
+        raise ValueError("clips: empty list")
+    lengths = torch.tensor([len(c) for c in clips])
+    T = int(lengths.max())
+    return torch.stack([pad_last(c, T) for c in clips]), torch.arange(T)[None] < lengths[:, None]

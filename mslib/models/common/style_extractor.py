@@ -1,6 +1,6 @@
 """Paper B's style extractor: a motion encoder pre-trained CLIP-style (symmetric InfoNCE) against the
 style corpus's captions, which name the style, then frozen — the workbook's analogue of MotionCLIP
-(B §3.2, DESIGN.md §7). It is NOT the evaluator: its own data pipeline, weights and training.
+(B §3.2). It is NOT the evaluator: its own data pipeline, weights and training.
 
 API:
     enc = MotionEncoder(StyleExtractorConfig.preset("course"))
@@ -11,7 +11,8 @@ Train: `python -m mslib train style_extractor --preset course --seed 0`.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass
+from typing import ClassVar
 
 import torch
 from torch import nn
@@ -19,16 +20,18 @@ from torch.nn import functional as Fn
 
 from ...checkpoints import course_path, load_state, read_checkpoint
 from ...data.datasets import StyleClips
+from ...motion.features import N_FEATURES
 from ...training import TrainConfig, fit, run_summary
+from .config import Config
 from .layers import PositionalEncoding, transformer_encoder
 from .text import TextConfig, TextEncoder, Tokenizer
 
 NAME = "style_extractor"
-TRAJ_DIMS = slice(0, 3)  # root angular velocity and XZ velocity: the trajectory, not style (FIELD_FACTS)
+TRAJ_DIMS = slice(0, 3)  # root angular velocity and XZ velocity: the trajectory, not style (the first 3 dims of the 263-d vector)
 
 
 @dataclass
-class StyleExtractorConfig:
+class StyleExtractorConfig(Config):
     """Motion tower sizes and CLIP training settings."""
 
     dim: int = 256
@@ -42,19 +45,11 @@ class StyleExtractorConfig:
     batch_size: int = 64
     lr: float = 1e-4
 
-    @classmethod
-    def preset(cls, name: str) -> "StyleExtractorConfig":
-        """`paper` (MotionCLIP-sized) or `course`."""
-        if name == "paper":
-            return cls()
-        if name == "course":
-            return cls(dim=96, out_dim=64, heads=4, layers=2, text_dim=64, steps=600, batch_size=64, lr=2e-3)
-        raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "StyleExtractorConfig":
-        known = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in d.items() if k in known})
+    PRESETS: ClassVar[dict] = {
+        "paper": {},  # MotionCLIP-sized
+        "course": dict(dim=96, out_dim=64, heads=4, layers=2, text_dim=64, steps=600, batch_size=64, lr=2e-3),
+    }
+    STORED_BESIDE: ClassVar[tuple] = ("text",)  # a checkpoint keeps the text tower's config (and vocabulary) too
 
 
 class MotionEncoder(nn.Module):
@@ -63,15 +58,15 @@ class MotionEncoder(nn.Module):
     def __init__(self, cfg: StyleExtractorConfig):
         super().__init__()
         self.cfg = cfg
-        self.inp = nn.Sequential(nn.Linear(263, cfg.dim), nn.GELU())
+        self.inp = nn.Sequential(nn.Linear(N_FEATURES, cfg.dim), nn.GELU())
         self.fold = nn.Conv1d(cfg.dim, cfg.dim, cfg.down, stride=cfg.down)
         self.pos = PositionalEncoding(cfg.dim, max_len=512)
         self.body = transformer_encoder(cfg.dim, cfg.heads, cfg.layers, 2, 0.1)
         self.proj = nn.Linear(cfg.dim, cfg.out_dim)
 
     def forward(self, x: torch.Tensor, mask: torch.Tensor | None = None) -> torch.Tensor:
-        if x.dim() != 3 or x.shape[-1] != 263:
-            raise ValueError(f"x: expected (B, T, 263) normalised features, got {tuple(x.shape)}")
+        if x.dim() != 3 or x.shape[-1] != N_FEATURES:
+            raise ValueError(f"x: expected (B, T, {N_FEATURES}) normalised features, got {tuple(x.shape)}")
         B, T, _ = x.shape
         k = self.cfg.down
         mask = torch.ones(B, T, dtype=torch.bool, device=x.device) if mask is None else mask.bool()
@@ -101,7 +96,7 @@ class CLIPPair(nn.Module):
         super().__init__()
         self.cfg = cfg
         tcfg = TextConfig(dim=cfg.text_dim, out_dim=cfg.out_dim)
-        self.config = {**asdict(cfg), "text": {"vocab": list(vocab), **asdict(tcfg)}}
+        self.config = {**cfg.to_dict(), "text": {"vocab": list(vocab), **tcfg.to_dict()}}
         self.motion = MotionEncoder(cfg)
         self.text = TextEncoder(vocab, tcfg)
 

@@ -1,4 +1,4 @@
-"""A small learned text encoder for captions — a pluggable slot (DESIGN.md §7): anything with
+"""A small learned text encoder for captions — a pluggable slot: anything with
 `encode_text(list[str]) -> (B, D)` can replace it (e.g. a real sentence encoder).
 
 API (stable):
@@ -13,12 +13,14 @@ the style corpus's captions; `python -m mslib train style_extractor --preset cou
 from __future__ import annotations
 
 import re
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass
+from typing import ClassVar
 
 import torch
 from torch import nn
 
 from ...checkpoints import course_path, read_checkpoint
+from .config import Config
 from .layers import PositionalEncoding, transformer_encoder
 
 PAD, UNK = "<pad>", "<unk>"
@@ -62,8 +64,8 @@ class Tokenizer:
 
 
 @dataclass
-class TextConfig:
-    """Sizes of the text tower."""
+class TextConfig(Config):
+    """Sizes of the text tower (a small one: neither B nor D fixes it; the course uses its PRESETS)."""
 
     dim: int = 128
     out_dim: int = 128
@@ -71,10 +73,7 @@ class TextConfig:
     layers: int = 1
     max_words: int = 16
 
-    @classmethod
-    def from_dict(cls, d: dict) -> "TextConfig":
-        known = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in d.items() if k in known})
+    STORED_BESIDE: ClassVar[tuple] = ("vocab",)  # a checkpoint keeps the tokenizer's vocabulary with the sizes
 
 
 class TextEncoder(nn.Module):
@@ -84,7 +83,7 @@ class TextEncoder(nn.Module):
         super().__init__()
         cfg = cfg or TextConfig()
         self.cfg, self.tokenizer = cfg, Tokenizer(vocab, cfg.max_words)
-        self.config = {"vocab": list(vocab), **asdict(cfg)}
+        self.config = {"vocab": list(vocab), **cfg.to_dict()}
         self.embed = nn.Embedding(len(vocab), cfg.dim, padding_idx=0)
         self.pos = PositionalEncoding(cfg.dim, max_len=cfg.max_words)
         self.body = transformer_encoder(cfg.dim, cfg.heads, cfg.layers, 2, 0.0)

@@ -10,19 +10,19 @@ API (stable):
     x = vae.decode(z, lengths)                                   # (B, max(lengths), 263) normalised features
     z = vae.encode_raw([raw (T, 263) arrays]); raw = vae.decode_raw(z, lengths) -> list of (T_i, 263) numpy
 The diffusion models work on `z` (scaled to about unit variance: `latent_scale` is the std of the
-training set's μ, measured after training, as in latent diffusion). `paper` preset: 7 × 256 tokens,
-9 layers, 4 heads (FIELD_FACTS "MCM-LDM"), a transformer. `course`: a convolutional VAE with a temporal
-latent (50 tokens × 16, one token per 4 frames of a clip padded to 200 frames). Why not a small
-transformer for the course: a 4×64 one trained for the course's minutes reached a normalised
-reconstruction MSE of only 0.56 and its reconstructions of style clips were recognised by the
-evaluator's style classifier 31% of the time (100% for the originals) — the style was lost before any
-diffusion began; a conv VAE learns in the same minutes what a transformer learns in hours on a GPU.
+training set's μ, measured after training, as in latent diffusion). `paper` preset: 7 × 256 tokens from a
+9-layer, 4-head transformer (B §4.1, MLD's VAE). `course` (a departure): a convolutional VAE with a
+temporal latent (50 tokens × 16, one token per 4 frames of a clip padded to 200 frames). Why: in the
+course's CPU minutes a small transformer VAE loses the style before any diffusion begins (its
+reconstructions of style clips no longer read as their style), while a conv VAE, whose tokens are local
+in time, learns in minutes what a transformer needs hours on a GPU for.
 Train: `python -m mslib train vae --preset course --seed 0` → mslib/checkpoints/vae.pt.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import torch
@@ -31,15 +31,17 @@ from torch.utils.data import ConcatDataset, Dataset
 
 from ...checkpoints import course_path, load_state, read_checkpoint, save_checkpoint
 from ...data.datasets import ContentClips, StyleClips
+from ...motion.features import N_FEATURES
 from ...motion.features import decode as decode_positions
 from ...training import TrainConfig, fit, run_summary
-from .layers import PositionalEncoding, ResBlock1d, transformer_encoder
+from .config import Config
+from .layers import Normalized, PositionalEncoding, ResBlock1d, pad_batch, transformer_encoder  # noqa: F401 (pad_batch: B and D import it from here)
 
 NAME = "vae"
 
 
 @dataclass
-class VAEConfig:
+class VAEConfig(Config):
     """Sizes and training settings; `paper` = MCM-LDM's 7×256 VAE, `course` = a CPU-minutes one."""
 
     arch: str = "transformer"  # "transformer" (MLD's, B's paper VAE) or "conv" (a temporal latent, the course one)
@@ -60,15 +62,12 @@ class VAEConfig:
     lr: float = 1e-4
     time_budget_s: float | None = None
 
-    @classmethod
-    def preset(cls, name: str) -> "VAEConfig":
-        """`paper` or `course`."""
-        if name == "paper":
-            return cls()
-        if name == "course":  # a conv VAE: the 4×64 transformer one lost the style in CPU minutes (see docstring)
-            return cls(arch="conv", latent_tokens=50, latent_dim=16, dim=192, layers=3, dropout=0.0,
-                       root_weight=4.0, steps=1800, batch_size=32, lr=1e-3, max_len=200, down=4)
-        raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
+    PRESETS: ClassVar[dict] = {
+        "paper": {},
+        # a conv VAE: in CPU minutes a small transformer loses the style (module docstring)
+        "course": dict(arch="conv", latent_tokens=50, latent_dim=16, dim=192, layers=3, dropout=0.0, root_weight=4.0,
+                       steps=1800, batch_size=32, lr=1e-3, max_len=200, down=4),
+    }
 
     def __post_init__(self):
         if self.arch not in ("transformer", "conv"):
@@ -76,11 +75,6 @@ class VAEConfig:
         if self.arch == "conv" and (self.down != 4 or self.max_len % 4 or self.latent_tokens != self.max_len // 4):
             raise ValueError(f"conv VAE: needs down=4 and latent_tokens = max_len // 4, got down={self.down}, "
                              f"max_len={self.max_len}, latent_tokens={self.latent_tokens}")
-
-    @classmethod
-    def from_dict(cls, d: dict) -> "VAEConfig":
-        known = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in d.items() if k in known})
 
 
 class ConvCodec(nn.Module):
@@ -93,13 +87,13 @@ class ConvCodec(nn.Module):
         h, d, L = cfg.dim, cfg.latent_dim, cfg.layers
         self.max_len = cfg.max_len
         self.enc = nn.Sequential(
-            nn.Conv1d(263, h, 3, padding=1), *[ResBlock1d(h) for _ in range(L - 2)],
+            nn.Conv1d(N_FEATURES, h, 3, padding=1), *[ResBlock1d(h) for _ in range(L - 2)],
             nn.Conv1d(h, h, 4, 2, 1), ResBlock1d(h), nn.Conv1d(h, h, 4, 2, 1), ResBlock1d(h),  # T → T/2 → T/4
             nn.LeakyReLU(0.2), nn.Conv1d(h, 2 * d, 1))  # μ and log σ² per latent token
         self.dec = nn.Sequential(
             nn.Conv1d(d, h, 1), ResBlock1d(h), nn.ConvTranspose1d(h, h, 4, 2, 1), ResBlock1d(h),
             nn.ConvTranspose1d(h, h, 4, 2, 1), *[ResBlock1d(h) for _ in range(L - 2)],  # T/4 → T/2 → T
-            nn.LeakyReLU(0.2), nn.Conv1d(h, 263, 3, padding=1))
+            nn.LeakyReLU(0.2), nn.Conv1d(h, N_FEATURES, 3, padding=1))
 
     def encode(self, x: torch.Tensor, mask: torch.Tensor, pad_to: int | None = None) -> tuple:
         """(B, T, 263) normalised + mask → μ, log σ² each (B, pad_to/4, d); pad_to = max_len for the fixed
@@ -116,16 +110,14 @@ class ConvCodec(nn.Module):
         return self.dec(z.transpose(1, 2)).transpose(1, 2)
 
 
-class MotionVAE(nn.Module):
+class MotionVAE(Normalized):
     """The motion VAE: `arch="transformer"` — learned latent queries read the clip, frame queries read the
     latent (MLD's design, B's paper VAE); `arch="conv"` — the ConvCodec's temporal latent (the course VAE)."""
 
     def __init__(self, cfg: VAEConfig, mean=None, std=None):
-        super().__init__()
+        super().__init__(mean, std)
         self.cfg = cfg
-        self.config = {**asdict(cfg)}
-        self.register_buffer("mean", torch.as_tensor(np.zeros(263) if mean is None else mean, dtype=torch.float32))
-        self.register_buffer("std", torch.as_tensor(np.ones(263) if std is None else std, dtype=torch.float32))
+        self.config = cfg.to_dict()
         self.register_buffer("latent_scale", torch.ones(()))
         if cfg.arch == "conv":
             self.conv = ConvCodec(cfg)
@@ -133,7 +125,7 @@ class MotionVAE(nn.Module):
         n, d = cfg.latent_tokens, cfg.dim
         k = cfg.down
         # frames → tokens: a per-frame linear, then `down` frames folded into one token (a strided conv)
-        self.inp = nn.Sequential(nn.Linear(263, d), nn.GELU())
+        self.inp = nn.Sequential(nn.Linear(N_FEATURES, d), nn.GELU())
         self.fold = nn.Conv1d(d, d, k, stride=k)
         self.queries = nn.Parameter(torch.randn(1, n, d) * 0.02)  # the N latent tokens' queries
         self.pos = PositionalEncoding(d, max_len=cfg.max_len // k + 2 * n + 8)
@@ -144,22 +136,13 @@ class MotionVAE(nn.Module):
         self.frame_query = nn.Parameter(torch.randn(1, 1, d) * 0.02)
         self.decoder = transformer_encoder(d, cfg.heads, cfg.layers, cfg.ff_mult, cfg.dropout)
         self.unfold = nn.ConvTranspose1d(d, d, k, stride=k)  # one token → `down` frames
-        self.out = nn.Sequential(nn.GELU(), nn.Linear(d, 263))
-
-    # ---------------------------------------------------------------- normalisation
-    def normalize(self, raw: torch.Tensor) -> torch.Tensor:
-        """(raw − mean) / std on (…, 263)."""
-        return (raw - self.mean) / self.std
-
-    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
-        """x · std + mean on (…, 263)."""
-        return x * self.std + self.mean
+        self.out = nn.Sequential(nn.GELU(), nn.Linear(d, N_FEATURES))
 
     # ---------------------------------------------------------------- encoder / decoder
     def encode_dist(self, x: torch.Tensor, mask: torch.Tensor | None = None) -> tuple:
         """(B, T, 263) normalised → μ, log σ² each (B, N, d)."""
-        if x.dim() != 3 or x.shape[-1] != 263:
-            raise ValueError(f"x: expected (B, T, 263) features, got {tuple(x.shape)}")
+        if x.dim() != 3 or x.shape[-1] != N_FEATURES:
+            raise ValueError(f"x: expected (B, T, {N_FEATURES}) features, got {tuple(x.shape)}")
         B, T, _ = x.shape
         if T > self.cfg.max_len:
             raise ValueError(f"x: {T} frames is longer than this VAE's max_len={self.cfg.max_len}")
@@ -229,7 +212,7 @@ class MotionVAE(nn.Module):
             z = mu + torch.randn_like(mu) * (0.5 * logvar).exp()
             rec = self.decode(z / self.latent_scale, mask.sum(1))
         x, mask = x[:, :rec.shape[1]], mask[:, :rec.shape[1]]
-        w = torch.ones(263, device=x.device)
+        w = torch.ones(N_FEATURES, device=x.device)
         w[:4] = self.cfg.root_weight
         m = mask.to(x.dtype).unsqueeze(-1)
         mse = (((rec - x) ** 2) * w * m).sum() / (m.sum() * w.sum())
@@ -246,20 +229,10 @@ class MotionVAE(nn.Module):
         mu, _ = self.encode_dist(x, mask)
         rec = self.decode(mu / self.latent_scale, mask.sum(1))
         m = mask.to(x.dtype).unsqueeze(-1)
-        return {"rec": float((((rec - x) ** 2) * m).sum() / (m.sum() * 263))}
+        return {"rec": float((((rec - x) ** 2) * m).sum() / (m.sum() * N_FEATURES))}
 
 
 # ---------------------------------------------------------------- batches
-def pad_batch(clips: list) -> tuple:
-    """A list of (T_i, C) tensors → (B, max T, C) padded with the last frame, mask (B, max T)."""
-    if not clips:
-        raise ValueError("clips: empty list")
-    lengths = torch.tensor([len(c) for c in clips])
-    T = int(lengths.max())
-    x = torch.stack([torch.cat([c, c[-1:].expand(T - len(c), -1)]) for c in clips])
-    return x, torch.arange(T)[None] < lengths[:, None]
-
-
 def trim(batch: dict) -> tuple:
     """A fixed-size padded batch ("features" (B, L, C), "length" (B,)) → features cut to the longest clip, mask."""
     lengths = batch["length"]
