@@ -1,11 +1,12 @@
-# Two commands do all set-up (README): `make lab` opens the workbook, `make test` runs every test.
-# Both create .venv on first use; nothing else needs installing by hand.
+# Two commands do all set-up (README): `make lab` opens the workbook, `make test` runs the tests.
+# `make bench` runs the benchmarks of the packaged checkpoints (slow: tens of minutes on 2 cores).
+# All create .venv on first use; nothing else needs installing by hand.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: lab test env clean-env
+.PHONY: lab test bench env clean-env
 
 env: $(STAMP)
 
@@ -22,10 +23,16 @@ $(STAMP): requirements.txt pyproject.toml
 lab: $(STAMP)
 	$(BIN)/python -m mslib.cpu_paths $(BIN)/jupyter lab notebooks/ $(if $(filter 0,$(shell id -u)),--allow-root)
 
-# Unit tests and strict nbval over every notebook, one pytest run (DESIGN.md §5).
+# Unit tests and strict nbval over every notebook, one pytest run; .ci/run runs this.
+# The benchmarks (tests marked `bench`, see pyproject.toml) are left to `make bench`.
 test: $(STAMP)
 	$(BIN)/python -m pytest tests notebooks --nbval --nbval-current-env \
-		--nbval-sanitize-with nbval_sanitize.cfg -q
+		--nbval-sanitize-with nbval_sanitize.cfg -m "not bench" -q
+
+# The benchmark table of every method on the default draw (the README's), then every method's bars.
+bench: $(STAMP)
+	$(BIN)/python -m mslib bench --method all --seed 0 --pairs 200 --markdown
+	$(BIN)/python -m pytest tests -m bench -q
 
 clean-env:
 	rm -rf $(VENV)

@@ -46,19 +46,6 @@ def test_triplet_known_answers():
     assert C.triplet_loss(q, near, q, 1.0).item() == pytest.approx(1.5)
 
 
-def test_triplet_with_the_batch_as_negatives_known_answers():
-    q = torch.zeros(2, 3)
-    pos = torch.tensor([[1.0, 0, 0], [0, 0, 0]])
-    neg = torch.tensor([[4.0, 0, 0], [0, 0.5, 0]])
-    # pair 0: d⁺ 1, negatives its target (4) and pair 1's positive (0): hinges 0 and 2
-    # pair 1: d⁺ 0, negatives its target (0.5) and pair 0's positive (1): hinges 0.5 and 0
-    assert C.triplet_loss_batch(q, pos, neg, 1.0).item() == pytest.approx((0 + 2 + 0.5 + 0) / 4)
-    one = slice(0, 1)  # one pair: C Eq. 4 itself
-    assert C.triplet_loss_batch(q[one], pos[one], neg[one]).item() == C.triplet_loss(q[one], pos[one], neg[one]).item()
-    with pytest.raises(ValueError, match="style_negatives"):
-        C.ContrastiveConfig.preset("course", style_negatives="all")
-
-
 def test_recording_nce_known_answers():
     """Two recordings: views aligned with their own code score low, swapped views high; all equal: log B."""
     codes = torch.tensor([[1.0, 0.0], [0.0, 2.0]])
@@ -97,10 +84,8 @@ def test_shapes_and_keep_root():
     skip = sk.generate(sk.encode_content(x), sk.encode_style(x), 31, x) - plain.generate(
         sk.encode_content(x), sk.encode_style(x), 31)
     torch.testing.assert_close(skip, x - x.mean(1, keepdim=True))  # the content's own movement
-    normed = C.ContrastiveModel(tiny(content_norm=True)).eval().encode_content(x)  # IN over time: zero mean
+    normed = m.encode_content(x + 3.0)  # E_c ends with instance normalisation over time: no time mean (posture)
     torch.testing.assert_close(normed.mean(-1), torch.zeros(3, 16), atol=1e-5, rtol=0)
-    raw = C.ContrastiveModel(tiny(content_norm=False)).eval().encode_content(x + 3.0)
-    assert raw.mean(-1).abs().max() > 1e-3  # without it the code keeps a time mean (the posture)
     assert m.discriminator(x).shape == (3, 7)
     content, style = np.random.default_rng(0).normal(size=(50, 263)), np.random.default_rng(1).normal(size=(31, 263))
     out = m.transfer_features(content, style)
@@ -108,64 +93,6 @@ def test_shapes_and_keep_root():
     assert not np.allclose(out[:, 3:], content[:, 3:])
     with pytest.raises(ValueError, match="content"):
         m.transfer_features(content[:, :100], style)
-    with pytest.raises(ValueError, match="preset"):
-        C.ContrastiveConfig.preset("huge")
-    with pytest.raises(ValueError, match="unknown config"):
-        C.ContrastiveConfig.preset("course", widht=3)
-
-
-def test_skip_adain_gives_the_movement_a_scale_from_the_style_code():
-    """`skip_adain`: the skip is A Eq. 2 on the content's movement, σ from the style code, so the content's own scale is gone."""
-    torch.manual_seed(0)
-    m = C.ContrastiveModel(tiny(skip_adain=True, skip_eps=1e-6)).eval()
-    x = torch.randn(2, 31, 263)
-    code = m.encode_style(x)
-    generate = lambda c: m.generate(m.encode_content(c), code, 31, c)  # noqa: E731
-    out = generate(x)  # G's head and the σ layer start at zero: σ̂ = 1, the movement instance-normalised
-    torch.testing.assert_close(out.mean(1), torch.zeros(2, 263), atol=1e-5, rtol=0)
-    torch.testing.assert_close(out.std(1, unbiased=False), torch.ones(2, 263), atol=1e-4, rtol=0)
-    torch.nn.init.normal_(m.generator.skip_log_sigma.weight, std=0.3)  # a σ that depends on the style code
-    sigma = m.generator.skip_sigma(code)  # (B, 1, D)
-    assert sigma.shape == (2, 1, 263) and not torch.allclose(sigma, torch.ones_like(sigma))
-    torch.testing.assert_close(generate(x).std(1, unbiased=False), sigma[:, 0], atol=1e-4, rtol=1e-4)
-    scaled = x.mean(1, keepdim=True) + 3.0 * (x - x.mean(1, keepdim=True))  # the content moving 3× as much, same content code
-    torch.testing.assert_close(m.generate(m.encode_content(x), code, 31, scaled), generate(x), atol=1e-4, rtol=1e-4)
-    floor = C.ContrastiveModel(tiny(skip_adain=True)).eval()  # the default variance floor keeps a still dim still
-    still = torch.randn(1, 31, 263) * 1e-3
-    assert floor.generate(floor.encode_content(still), floor.encode_style(still), 31, still).abs().max() < 0.05
-    assert C.ContrastiveConfig.preset("paper").skip_adain is False
-
-
-def test_skip_gain_scales_the_movement_by_the_style_codes_difference():
-    """`skip_gain`: the skip times exp(A·(s − s_x)), 1 when the codes agree; made without drawing random numbers."""
-    torch.manual_seed(0)
-    base = C.ContrastiveModel(tiny())
-    after_base = torch.rand(3)
-    torch.manual_seed(0)
-    m = C.ContrastiveModel(tiny(skip_gain=True)).eval()
-    torch.testing.assert_close(torch.rand(3), after_base)  # the same random stream as without the gain
-    state = m.state_dict()
-    assert torch.count_nonzero(state.pop("movement_gain.weight")) == 0
-    assert all(torch.equal(v, base.state_dict()[k]) for k, v in state.items()) and state.keys() == base.state_dict().keys()
-    x, y = torch.randn(2, 31, 263), torch.randn(2, 31, 263)
-    c, s_x, s_y = m.encode_content(x), m.encode_style(x), m.encode_style(y)
-    torch.testing.assert_close(m.generate(c, s_y, 31, x), base.eval().generate(c, s_y, 31, x))  # A = 0: gain 1
-    torch.nn.init.normal_(m.movement_gain.weight, std=0.1)
-    g_out = m.generator(c, s_y, 31)  # (B, T, D), G's own part
-    move = x - x.mean(1, keepdim=True)
-    gain = torch.exp((s_y - s_x) @ m.movement_gain.weight.T)[:, None]  # (B, 1, D)
-    assert not torch.allclose(gain, torch.ones_like(gain))
-    torch.testing.assert_close(m.generate(c, s_y, 31, x), g_out + gain * move, atol=1e-5, rtol=1e-5)
-    torch.testing.assert_close(m.generate(c, s_y, 31, x, s_x), m.generate(c, s_y, 31, x))  # default s_x = E_s(x)
-    m.train()
-    rec = C.reconstruction_loss(m.generate(c, s_x, 31, x, s_x), x)  # own code: reconstruction gives A no gradient
-    rec.backward()
-    assert torch.count_nonzero(m.movement_gain.weight.grad) == 0
-    with pytest.raises(ValueError, match="content_skip"):
-        C.ContrastiveConfig.preset("course", skip_gain=True, content_skip=False)
-    with pytest.raises(ValueError, match="choose one"):
-        C.ContrastiveConfig.preset("course", skip_gain=True, skip_adain=True)
-    assert not C.ContrastiveConfig.preset("course").skip_gain and not C.ContrastiveConfig.preset("paper").skip_gain
 
 
 def test_style_strength_mixes_the_style_codes():
@@ -197,19 +124,16 @@ def test_discriminator_has_its_own_optimiser():
     assert logs["loss"].item() == pytest.approx(total.item(), rel=1e-5)
 
 
-def test_discriminator_real_set_is_the_source_or_both_clips(monkeypatch):
-    """C Eq. 2's real motions: the style clips (default) or the target clips too (`disc_real="both"`)."""
+def test_discriminator_real_motions_are_the_source_clips():
+    """C Eq. 2's real motions: the source clips M^S."""
     target, source = torch.randn(4, 31, 263), torch.randn(4, 31, 263)
-    for real, n_real in (("source", 4), ("both", 8)):
-        torch.manual_seed(0)
-        m = C.ContrastiveModel(tiny(disc_real=real))
-        seen = []
-        monkeypatch.setattr(C, "adversarial_losses", lambda r, f, _seen=seen: _seen.append(r.shape[0]) or
-                            (r.mean() * 0 + f.mean() * 0, f.mean() * 0))
-        m.training_step({"target": target, "source": source})
-        assert seen == [n_real]  # rows of D's logits on the real motions
-    with pytest.raises(ValueError, match="disc_real"):
-        C.ContrastiveConfig.preset("course", disc_real="target")
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny())
+    seen = []
+    m.discriminator.register_forward_pre_hook(lambda module, args: seen.append(args[0]))
+    m.training_step({"target": target, "source": source})
+    assert len(seen) == 3 and seen[0] is source  # D's step on M^S and the detached M^G, then G's term on M^G
+    assert not seen[1].requires_grad and seen[2].requires_grad
 
 
 class Smooth(Dataset):
@@ -370,14 +294,13 @@ def _holds(ds, k: int, window: torch.Tensor) -> bool:
     return _holds_array(((ds._clip(k) - ds.mean) / ds.std).astype(np.float32), window)
 
 
-def test_paired_clips_draw_from_the_union_or_across_the_corpora():
-    """pairs="union": M^T and M^S both from content ∪ style (C's X); "across": M^S always a style clip."""
+def test_paired_clips_draw_from_the_union_of_the_corpora():
+    """M^T and M^S both from content ∪ style (C's one set X)."""
     from mslib.data.corpora import load_builtin
     builtin = load_builtin(progress=False)
     union = C.PairedClips(builtin["content"], builtin["style"], "val")
-    across = C.PairedClips(builtin["content"], builtin["style"], "val", pairs="across")
     n_content, n_style = len(union.content_index), len(union.style_index)
-    assert len(union) == n_content + n_style and len(across) == n_content
+    assert len(union) == n_content + n_style
 
     def norm(ds, i):  # a style clip is exactly one window long, so its window is the whole clip
         return ((ds.style._arrays(ds.style_index[i])[0] - ds.mean) / ds.std).astype(np.float32).tobytes()
@@ -386,11 +309,6 @@ def test_paired_clips_draw_from_the_union_or_across_the_corpora():
     np.random.seed(0)
     from_style = [union[i]["source"].numpy().tobytes() in style_windows for i in range(60)]
     assert 0 < sum(from_style) < 60                                                   # sources from both corpora
-    assert all(across[i]["source"].numpy().tobytes() in style_windows for i in range(20))
-    with pytest.raises(ValueError, match="pairs"):
-        C.PairedClips(builtin["content"], builtin["style"], "val", pairs="style")
-    with pytest.raises(ValueError, match="pairs"):
-        C.ContrastiveConfig.preset("course", pairs="style")
 
 
 # ---------------------------------------------------------------- the packaged checkpoint and bench
@@ -401,7 +319,7 @@ needs_ckpt = pytest.mark.skipif(not course_path("contrastive").is_file(), reason
 def test_course_checkpoint_loads_and_bench_transfer_gives_positions():
     from mslib.evaluation import bench
     m = C.load()
-    assert m.config == {**C.ContrastiveConfig.preset("course").__dict__}
+    assert m.cfg == C.ContrastiveConfig.preset("course") and m.config == m.cfg.to_dict()
     content, style = bench.load_pairs(seed=0, n_pairs=1)[0]
     out = bench.positions(bench.get_method("contrastive")(content, style))
     assert out.shape == (len(content["features"]), 22, 3) and np.isfinite(out).all()
@@ -422,6 +340,7 @@ def test_interpolation_ends_match_transfer():
     np.testing.assert_allclose(strip[-1], decode(m.transfer_features(content, sb)), atol=1e-4)
 
 
+@pytest.mark.bench
 @needs_ckpt
 def test_bench_contrastive_beats_both_references_on_the_default_draw():
     """Issue 8's bar for the packaged course model: on the default draw, H ≥ 0.60 and above both reference rows."""
@@ -463,15 +382,39 @@ def test_statistics_mix_and_posture_shift_known_answers():
     assert math.isclose(tool.posture_moved(tool.stats_mix(c, s, 0.5, 0.5), c, s), 0.5, abs_tol=1e-9)
 
 
-def test_checkpoints_older_than_pairs_load_as_trained_across(tmp_path):
-    from dataclasses import asdict
-
+def test_config_presets_and_stored_configs(tmp_path):
     from mslib.checkpoints import save_checkpoint
+    from mslib.models.common.config import RETIRED_AT
+    paper = C.ContrastiveConfig()
+    assert paper == C.ContrastiveConfig.preset("paper")  # the defaults are C's (§4.1)
+    assert (paper.hidden, paper.style_dim, paper.batch_size, paper.lr, paper.steps) == (144, 144, 16, 1e-4, 200_000)
+    assert (paper.alpha, paper.beta, paper.gamma, paper.margin) == (1.0, 0.3, 0.3, 1.0)  # C Eq. 4–5
+    assert not paper.content_skip and paper.pretrain_steps == 0 and paper.style_views == 0.0  # no course departure
+    course = C.ContrastiveConfig.preset("course")
+    assert course.content_skip and course.pretrain_steps == 2500 and course.style_views == 0.3 and course.hidden == 64
+    assert C.ContrastiveConfig.preset("course", hidden=8).hidden == 8
+    assert C.ContrastiveConfig.from_dict(course.to_dict()) == course
+    assert C.ContrastiveModel(course.to_dict()).cfg == course  # a stored config builds the same model
+    with pytest.raises(ValueError, match="widht"):
+        C.ContrastiveConfig.preset("course", widht=3)
+    with pytest.raises(ValueError, match="preset"):
+        C.ContrastiveConfig.preset("huge")
+    # the packaged checkpoint's config holds every retired option with the value the library always uses
+    stored = read_checkpoint(course_path(C.NAME), C.NAME)["config"]
+    assert set(C.ContrastiveConfig.RETIRED) <= set(stored)
+    assert C.ContrastiveConfig.from_dict(stored) == course
+    # a retired research option loads when it holds the value the library always uses, else is refused, naming it
     cfg = tiny()
-    old = {k: v for k, v in asdict(cfg).items() if k != "pairs"}
-    save_checkpoint(tmp_path / "old.pt", C.ContrastiveModel(cfg), old, C.NAME)
-    save_checkpoint(tmp_path / "new.pt", C.ContrastiveModel(cfg), asdict(cfg), C.NAME)
-    assert C.load(tmp_path / "old.pt").cfg.pairs == "across" and C.load(tmp_path / "new.pt").cfg.pairs == "union"
+    for option, other in (("pairs", "across"), ("skip_adain", True), ("skip_gain", True), ("disc_real", "both"),
+                          ("style_negatives", "batch"), ("content_norm", False)):
+        kept = C.ContrastiveConfig.RETIRED[option]
+        assert C.ContrastiveConfig.from_dict({**cfg.to_dict(), option: kept}) == cfg
+        with pytest.raises(ValueError, match=option):
+            C.ContrastiveConfig.from_dict({**cfg.to_dict(), option: other})
+    old = {**cfg.to_dict(), "pairs": "across"}  # a research checkpoint: load() names the commit that still has it
+    save_checkpoint(tmp_path / "across.pt", C.ContrastiveModel(cfg), old, C.NAME)
+    with pytest.raises(ValueError, match=f"'pairs'.*{RETIRED_AT}"):
+        C.load(tmp_path / "across.pt")
 
 
 def test_seed_table_and_ceiling_refuse_other_recipes_repeated_seeds_and_missing_files(tmp_path, monkeypatch):
@@ -512,11 +455,7 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     course = C.ContrastiveConfig.preset("course")
     cfg = {k: C.ContrastiveConfig.preset("course", **v) for k, v in tool.VARIANTS.items()}
     two_phases = (tool.SHORT["pretrain_steps"], tool.SHORT["steps"])
-    for name in ("across", "d_real_both", "union_short", "skip_adain"):
-        assert (cfg[name].pretrain_steps, cfg[name].steps) == two_phases
-    for name in ("joint", "literal"):  # C's joint training: as many steps as the two phases together
-        assert (cfg[name].pretrain_steps, cfg[name].steps) == (0, sum(two_phases))
-    assert (cfg["autoencoder"].pretrain_steps, cfg["autoencoder"].steps) == (0, tool.SHORT["pretrain_steps"])
+    assert (cfg["union_short"].pretrain_steps, cfg["union_short"].steps) == two_phases
     assert (cfg["union_mid"].pretrain_steps, cfg["union_mid"].steps) == (tool.SHORT["pretrain_steps"], 2 * tool.SHORT["steps"])
     assert cfg["course"] == course == cfg["course_views"] and course.style_views == 0.3
     plain = cfg["plain"]
@@ -524,13 +463,21 @@ def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     assert {k for k, c in cfg.items() if c.style_views > 0} == {"course", "course_views"}
     for name in ("union_short", "union_mid"):  # the plain recipe but for a shorter second phase
         assert replace(cfg[name], steps=plain.steps) == plain and plain.steps > cfg[name].steps
-    assert replace(cfg["skip_adain"], skip_adain=False) == cfg["union_short"] and not course.skip_adain
-    assert replace(cfg["course_gain"], skip_gain=False) == plain and not course.skip_gain
     assert replace(cfg["course_long"], steps=plain.steps) == plain and cfg["course_long"].steps == 2 * plain.steps
-    assert replace(cfg["course_negatives"], style_negatives="target") == plain and course.style_negatives == "target"
-    union = ("course", "plain", "union_short", "union_mid", "skip_adain", "course_gain", "course_long", "course_negatives",
-             "course_views")
-    assert {c.pairs for k, c in cfg.items() if k not in union} == {"across"}
+
+
+def test_recipe_table_rows_name_their_commit_and_removed_variants_keep_theirs():
+    """Every stored row and section names the command and commit that made it; the rows of variants whose options
+    left the library stay, though `train` no longer offers them (they reproduce at the commit the docstring names)."""
+    tool = _findings_tool()
+    stored = json.loads(tool.RECIPES_JSON.read_text())
+    sections = [v for v in stored.values() if isinstance(v, dict)]
+    assert all(r["commit"] and r["command"] for r in stored["rows"] + sections)
+    removed = {"literal", "joint", "autoencoder", "across", "d_real_both", "skip_adain", "course_gain", "course_negatives"}
+    assert removed <= {r["variant"] for r in stored["rows"]} and not removed & set(tool.VARIANTS)
+    assert "git checkout 3748be4" in tool.__doc__
+    findings = json.loads((tool.DATA_DIR / "03_contrastive_findings.json").read_text())
+    assert findings["commit"] and findings["command"]
 
 
 def test_checkpoint_arguments_are_checked_before_any_loads(tmp_path, monkeypatch):
@@ -548,19 +495,28 @@ def test_checkpoint_arguments_are_checked_before_any_loads(tmp_path, monkeypatch
 
 def test_recipe_rows_merge_by_label_and_keep_their_commands():
     tool = _findings_tool()
-    saved = {"command": "old", "rows": [{"variant": "a", "h": 1}, {"variant": "course", "h": 2}]}
-    rows = tool.merge_rows(saved, [{"variant": "course", "h": 3}, {"variant": "b", "h": 4}], "new")
-    assert [(r["variant"], r["h"], r["command"]) for r in rows] == [("a", 1, "old"), ("b", 4, "new"), ("course", 3, "new")]
-    assert tool.merge_rows({}, [{"variant": "a", "h": 1}], "new") == [{"variant": "a", "h": 1, "command": "new"}]
+    saved = {"rows": [{"variant": "a", "h": 1, "command": "old", "commit": "c0"},
+                      {"variant": "course", "h": 2, "command": "old", "commit": "c0"}]}
+    rows = tool.merge_rows(saved, [{"variant": "course", "h": 3}, {"variant": "b", "h": 4}], "new", "c1")
+    assert [(r["variant"], r["h"], r["command"], r["commit"]) for r in rows] == [
+        ("a", 1, "old", "c0"), ("b", 4, "new", "c1"), ("course", 3, "new", "c1")]
+    assert tool.merge_rows({}, [{"variant": "a", "h": 1}], "new", "c1") == [
+        {"variant": "a", "h": 1, "command": "new", "commit": "c1"}]
 
 
-def test_recipe_json_merges_sections_and_rows_atomically(tmp_path, monkeypatch):
+def test_recipe_json_sections_are_replaced_and_the_others_kept(tmp_path, monkeypatch):
     tool = _findings_tool()
     monkeypatch.setattr(tool, "RECIPES_JSON", tmp_path / "data" / "recipes.json")
-    tool._save({"strength": {"rows": [1]}, "val_pairs": 200})
-    seen = []
-    tool._save(lambda saved: seen.append(saved) or {"rows": [{"variant": "a"}]})  # a function of what is saved
-    assert seen == [{"strength": {"rows": [1]}, "val_pairs": 200}]
-    assert json.loads(tool.RECIPES_JSON.read_text()) == {"strength": {"rows": [1]}, "val_pairs": 200,
+    tool.save({"strength": {"rows": [1]}, "val_pairs": 200})
+    tool.save({"rows": [{"variant": "a"}], "strength": {"rows": [2]}})
+    assert json.loads(tool.RECIPES_JSON.read_text()) == {"strength": {"rows": [2]}, "val_pairs": 200,
                                                           "rows": [{"variant": "a"}]}
     assert [p.name for p in tool.RECIPES_JSON.parent.iterdir()] == ["recipes.json"]  # no temporary file left
+    assert set(tool._made("python tools/contrastive_findings.py strength --save")) == {"command", "commit"}
+
+
+def test_findings_tool_help_runs():
+    tool = _findings_tool()
+    with pytest.raises(SystemExit) as exit_info:
+        tool.main(["--help"])
+    assert exit_info.value.code == 0

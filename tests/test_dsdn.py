@@ -152,6 +152,7 @@ def test_stage_two_smooths_the_transfers_and_slides_the_feet_less():
     assert jit["adain+dsdn"] < jit["adain"] and fsf["adain+dsdn"] < fsf["adain"]
 
 
+@pytest.mark.bench
 @pytest.mark.skipif(not (course_path("dsdn").is_file() and course_path("adain").is_file()),
                     reason="course checkpoints not trained yet")
 def test_stage_two_keeps_h_within_its_bar_on_the_default_draw():

@@ -96,3 +96,19 @@ def test_layers_import_downward_only(below, above):
 def test_no_module_past_about_500_lines():
     long = {name: n for name, path in MODULES.items() if (n := len(path.read_text().splitlines())) > 520}
     assert not long, f"modules past ~500 lines: {long}"
+
+
+def test_each_paper_package_declares_its_methods_and_trainers_in_one_place():
+    import importlib
+
+    from mslib.cli import trainers
+    from mslib.models.registry import PACKAGES, known_methods
+    for name in PACKAGES:
+        package = importlib.import_module(name)
+        assert isinstance(package.METHODS, dict) and isinstance(package.TRAINERS, dict), name
+        for method, (factory, description) in package.METHODS.items():
+            assert callable(factory) and description, (name, method)
+    assert {"adain", "adain+dsdn", "mcm_ldm", "contrastive", "clusterstyle", "identity", "copy_style"} <= set(known_methods())
+    # every packaged checkpoint can be retrained by `python -m mslib train NAME`
+    packaged = {p.stem for p in (PACKAGE / "checkpoints").glob("*.pt")}
+    assert packaged <= set(trainers()), f"checkpoints without a trainer: {sorted(packaged - set(trainers()))}"

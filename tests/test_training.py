@@ -131,6 +131,7 @@ def test_checkpoint_errors_name_the_file(tmp_path):
         save_checkpoint(tmp_path / "b.pt", m, {"bad": object()}, "linear")
 
 
+@pytest.mark.bench
 def test_ddp_two_processes_on_gloo_end_with_identical_weights(tmp_path):
     script = tmp_path / "ddp_train.py"
     script.write_text(textwrap.dedent(f"""

@@ -19,15 +19,15 @@ strength  the packaged course checkpoint at w ∈ {0.4, 0.45, 0.5, 0.55, 0.6, 0.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-OUT = ROOT / "notebooks" / "data" / "02_adain_variants.json"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
+
+OUT = DATA_DIR / "02_adain_variants.json"
 
 VARIANTS = {
     "separate_joint": dict(shared_encoder=False, pretrain_steps=0),
@@ -39,9 +39,9 @@ STRENGTHS = (0.5, 0.75, 1.0)
 
 def score(model, pairs, evaluator, strength: float) -> dict:
     """H, CRA, SRA, FSF of the model's transfers at one style strength."""
-    from mslib.evaluation.bench import evaluate
-    outs = [model.transfer(c["features"], s["features"], strength=strength) for c, s in pairs]
-    r = evaluate(outs, pairs, evaluator)
+    from mslib.evaluation.bench import positions
+    outs = [positions(model.transfer_features(c["features"], s["features"], strength=strength)) for c, s in pairs]
+    r = score_outputs(outs, pairs, evaluator)
     return {"strength": strength, **{k: round(float(r[k]), 4) for k in ("h", "cra", "sra", "fsf")}}
 
 
@@ -75,17 +75,20 @@ def strength(pairs, evaluator) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", default="variants,strength")
-    ap.add_argument("--steps", type=int, default=1500)
-    ap.add_argument("--pairs", type=int, default=200)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--only", default="variants,strength", help="comma-separated sections to run (variants, strength)")
+    ap.add_argument("--steps", type=int, default=1500, help="decoder (and autoencoder) steps of each variant")
+    ap.add_argument("--pairs", type=int, default=200, help="val pairs to score on")
     args = ap.parse_args(argv)
+    unknown = set(args.only.split(",")) - {"variants", "strength"}
+    if unknown:
+        ap.error(f"--only: unknown sections {sorted(unknown)}; expected variants and/or strength")
     import torch
     from mslib.data.corpora import load_builtin
-    from mslib.evaluation.bench import Evaluator, load_pairs
+    from mslib.evaluation.bench import Evaluator
     torch.manual_seed(0)
     paths = load_builtin(progress=False)
-    pairs, evaluator = load_pairs(0, args.pairs, paths["content"], paths["style"], split="val"), Evaluator()
+    pairs, evaluator = val_pairs(args.pairs), Evaluator()
     todo = args.only.split(",")
     result = {}
     if "variants" in todo:
@@ -94,11 +97,8 @@ def main(argv=None) -> int:
         result["strength"] = strength(pairs, evaluator)
     command = " ".join(["python tools/adain_variants.py", *(argv if argv is not None else sys.argv[1:])])
     for part in result.values():
-        part.update(command=command, val_pairs=args.pairs)
-    latest = json.loads(OUT.read_text()) if OUT.is_file() else {}  # sections not re-run are kept
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_text(json.dumps({**latest, **result}, indent=1) + "\n")
-    print(OUT)
+        part.update(command=command, val_pairs=args.pairs, commit=current_commit())
+    print(update_json(OUT, result))  # sections not re-run are kept
     return 0
 
 

@@ -1,17 +1,18 @@
 """Paper C's findings, measured: style-code clusters with and without the contrastive terms (C Fig. 2),
-the β sweep (C Table 1), style interpolation (C Fig. 10–11) and an unseen style (C Fig. 3).
+the β sweep (C Table 1) and an unseen style (C Fig. 3).
 
 Short runs are too slow for a notebook, so `python tools/contrastive_analysis.py` trains them
 once (six course-sized runs of 300 steps) and writes `notebooks/data/03_contrastive_findings.json`:
-the tables, silhouettes and the t-SNE points of the held-out style codes; notebook 03 loads it if it
-exists, else computes it (`findings`). Labels are used only to colour and score codes, never in training
-(the unseen-style run leaves the depressed clips out of its training data).
+the tables, silhouettes and the t-SNE points of the held-out style codes, with the command and the
+commit that made them; notebook 03 loads it if it exists, else computes it (`findings`). Labels are used
+only to colour and score codes, never in training (the unseen-style run leaves the depressed clips out of
+its training data).
 
 Distances of the β sweep (our choice; C's network layers are not public, and models may not use the
-evaluator): on held-out (content, style) pairs, with x the normalised "ric" block (dims 4:67,
-root-relative joints) of a motion,
-    content distance = mean over frames of ‖x_out(t) − x_content(t)‖ / √63,
-    style distance   = ‖Gram(x_out) − Gram(x_style)‖_F / 63, Gram(x) = xᵀx / T   (Gatys et al.).
+evaluator): on held-out (content, style) pairs, with x the normalised "ric" block (BLOCKS["ric"],
+the C = 63 root-relative joint coordinates) of a motion,
+    content distance = mean over frames of ‖x_out(t) − x_content(t)‖ / √C,
+    style distance   = ‖Gram(x_out) − Gram(x_style)‖_F / C, Gram(x) = xᵀx / T   (Gatys et al.).
 Silhouettes and t-SNE come from scikit-learn (cosine-free, Euclidean on the style codes).
 """
 from __future__ import annotations
@@ -23,18 +24,17 @@ import time
 from pathlib import Path
 
 import numpy as np
-import torch
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
+
 from mslib.data.datasets import MotionFolder  # noqa: E402
 from mslib.evaluation.embedding import (code_scores, nearest_neighbour_purity, silhouette_per_label,  # noqa: E402
                                         style_clips, tsne_2d)
-from mslib.fileio import atomic_write_bytes  # noqa: E402
 from mslib.models.contrastive import ContrastiveConfig, ContrastiveModel, train  # noqa: E402
 from mslib.motion.features import BLOCKS  # noqa: E402
 
-FINDINGS_JSON = ROOT / "notebooks" / "data" / "03_contrastive_findings.json"
+FINDINGS_JSON = DATA_DIR / "03_contrastive_findings.json"
 COMMAND = "python tools/contrastive_analysis.py"
 DEFAULT_STEPS = 300
 BETAS = (0.0, 0.3, 0.6, 1.0)
@@ -53,7 +53,7 @@ def held_out_pairs(content_folder, style_folder, n: int = 64, seed: int = 0, spl
 
 # ---------------------------------------------------------------- measures
 def _ric(model: ContrastiveModel, f: np.ndarray) -> np.ndarray:
-    """The normalised ric block of unnormalised features (T, 263) → (T, 63)."""
+    """The normalised ric block of unnormalised features (T, D) → (T, 63)."""
     sl = BLOCKS["ric"]
     return (f[:, sl] - model.mean.cpu().numpy()[sl]) / model.std.cpu().numpy()[sl]
 
@@ -75,7 +75,6 @@ def transfer_distances(model: ContrastiveModel, pairs) -> dict:
     return {"content_distance": float(np.mean(dc)), "style_distance": float(np.mean(ds))}
 
 
-# ---------------------------------------------------------------- interpolation
 # ---------------------------------------------------------------- the short runs
 def short_run(content_folder, style_folder, steps: int, seed: int = 0, exclude_styles=(), **overrides):
     """A course-sized model trained jointly, as C does, for `steps` (no validation, no checkpoint).
@@ -101,7 +100,7 @@ def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed:
     clips, labels, contents, takes = style_clips(style_folder, "test", with_content=True)
     pairs = held_out_pairs(content_folder, style_folder, n_pairs, seed)
     say = print if progress else (lambda *a, **k: None)
-    results = {"command": COMMAND, "steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs),
+    results = {"command": COMMAND, "commit": current_commit(), "steps": int(steps), "seed": int(seed), "n_pairs": int(n_pairs),
                "betas": list(BETAS), "labels": labels.tolist(), "contents": contents.tolist(), "sweep": [],
                "unseen_style": UNSEEN}
     t0 = time.time()
@@ -130,10 +129,8 @@ def run_findings(content_folder, style_folder, steps: int = DEFAULT_STEPS, seed:
 
 
 def save_findings(results: dict, path=FINDINGS_JSON) -> Path:
-    """Write the findings as JSON."""
-    path = Path(path)
-    atomic_write_bytes(path, (json.dumps(results, sort_keys=True) + "\n").encode())
-    return path
+    """Write the findings as JSON (`tools.common.update_json`: atomically)."""
+    return update_json(path, results)
 
 
 def load_findings(path=FINDINGS_JSON) -> dict:

@@ -9,42 +9,33 @@
 
 `train` trains one variant of the course preset, saving OUT every 1000 second-phase steps (`--resume` continues
 a run that was cut from there). The recipes were compared at the course's earlier, shorter
-schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce; the
-joint recipes train as many steps as those two phases together. Every recipe but `course` and `course_views` pins
-`style_views` δ = 0, as the course preset had it when they were compared (`PLAIN`). All but the `union_…`, `plain`
-and `course…` recipes draw M^T from the content corpus and M^S from the style corpus (`pairs="across"`, the
-benchmark's direction, as the course recipe did until it drew both from their union, C's one set X):
-    literal      C §3, §4.1 as written but for the pairs: G sees only the two codes (`content_skip=False`),
-                 E_c without the final instance norm (`content_norm=False`), C Eq. 5 from the first step;
-    joint        the course sizes and content skip, C Eq. 5 from the first step;
-    autoencoder  the autoencoder phase alone: C Eq. 1 + 2 (β = γ = 0), no contrastive terms;
-    across       the two phases: the autoencoder, then E_s frozen and all of C Eq. 5;
-    d_real_both  `across` with C Eq. 2's discriminator shown target clips as real too (otherwise D's real
-                 motions, the M^S, are the style corpus only);
-    union_short  `across` with M^T and M^S both drawn from content ∪ style;
+schedule, 2500 autoencoder steps + 2500 steps of C Eq. 5 (`SHORT`), and keep it so their rows reproduce.
+Every recipe but `course` and `course_views` pins `style_views` δ = 0, as the course preset had it when they
+were compared (`PLAIN`). All draw M^T and M^S from content ∪ style (C's one set X), as the library does:
+    union_short  the two phases: the autoencoder, then E_s frozen and all of C Eq. 5;
     union_mid    `union_short` with the second phase twice as long;
-    skip_adain   `union_short` with the skip's movement instance-normalised and rescaled by a σ per dimension
-                 that G predicts from the style code (A Eq. 2 on the skip): the style code must carry how much
-                 each dimension moves, so the frozen E_s would judge the movement too, not only the posture;
     plain        the course recipe before it took up `style_views`: `union_short` with a longer second phase
                  (the preset's steps);
-    course_gain  `plain` with the skip's movement scaled per dimension by exp(A·(E_s(M^S) − E_s(M^T)))
-                 (`skip_gain`): 1 whenever the two codes agree, so only C Eq. 2–4 of the second phase train A,
-                 and how much a dimension moves follows the style codes' difference, not one style code;
     course_long  `plain` with the second phase twice as long (20000 steps of C Eq. 5);
-    course_negatives `plain` with C Eq. 4's hinge also against the other pairs' source codes in the batch
-                 (`style_negatives="batch"`): E_s(M^G) must be nearer its own source's code than to any other;
     course_views `plain` with a judge trained to recognise recordings (`style_views` δ = 0.3, C's β and γ): in the
                  autoencoder phase, InfoNCE between E_s codes of two windows of one recording, the other recordings
                  in the batch its negatives (no labels), so the frozen E_s tells styles apart, not only what G needs;
                  adopted: the course preset since (the same config as `course`);
     course       the course recipe: the course preset as it is.
+The recipe table also holds rows of variants that needed options since removed from the library (they
+served these experiments only): `literal` (no content skip, no final instance norm of E_c), `joint`,
+`autoencoder`, `across` (M^T from the content corpus, M^S from the style corpus), `d_real_both` (C Eq. 2's
+D shown target clips as real too), `skip_adain` (the skip's movement rescaled by a σ from the style code),
+`course_gain` (the skip's movement scaled by exp(A·(E_s(M^S) − E_s(M^T)))) and `course_negatives` (C Eq. 4
+also against the batch's other sources). Their rows keep their numbers, commands and commits; they
+reproduce at commit 3748be4 (`git checkout 3748be4`, then the row's command, `train VARIANT` for the models).
+
 `val` scores checkpoints ("course" = the packaged one) with the independent evaluator on 200
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
 (style strength w = 1). `strength` scores the packaged checkpoint on the same pairs at several w
 (E_s(M^T) + w·(E_s(M^S) − E_s(M^T))), w > 1 included: would another w than C's do better? `ceiling`
-scores, on the same pairs, transfers that learn nothing: the target's 263-d features with their time
+scores, on the same pairs, transfers that learn nothing: the target's features with their time
 mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
 transfer into its time mean (the posture) and the movement around it, swapping each for the target's own,
@@ -54,50 +45,37 @@ saves it as `ceiling_LABEL`). `seeds` scores the packaged checkpoint beside the
 course recipe trained with the other seeds (`COURSE_RUN --seed N --out OUT`), at C's transfer (w = 1, as the
 recipe rows; also at the course style strength if that is not 1): how much of a difference between two
 recipes one training run's luck can make. With `--save` each writes its part of
-notebooks/data/03_contrastive_recipes.json, which notebook 03 reads; `val --save` replaces the rows of the
-labels it scores (keeping the others, each row with the command that scored it). The findings (a)–(d) themselves:
-`python -m mslib.models.contrastive_analysis`.
+notebooks/data/03_contrastive_recipes.json, which notebook 03 reads, with the command and the commit that made
+it; `val --save` replaces the rows of the labels it scores (keeping the others, each row with its own command
+and commit). The findings (a)–(d) themselves: `python tools/contrastive_analysis.py`.
 """
 from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
-from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-RECIPES_JSON = ROOT / "notebooks" / "data" / "03_contrastive_recipes.json"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, ROOT, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
 
 from mslib.checkpoints import course_path, read_checkpoint  # noqa: E402
 from mslib.data.corpora import load_builtin, take_of  # noqa: E402
-from mslib.evaluation.bench import Evaluator, by_style, evaluate, load_pairs  # noqa: E402
+from mslib.evaluation.bench import Evaluator, by_style  # noqa: E402
+from mslib.evaluation.embedding import nearest_neighbour_purity  # noqa: E402
 from mslib.models import contrastive as C  # noqa: E402
 from mslib.models.adain import load_adain  # noqa: E402
-from mslib.evaluation.embedding import nearest_neighbour_purity  # noqa: E402
 from mslib.motion.features import BLOCKS, TRAJECTORY_DIMS, decode  # noqa: E402
 
-
-ACROSS = dict(pairs="across")  # M^T from the content corpus, M^S from the style corpus
+RECIPES_JSON = DATA_DIR / "03_contrastive_recipes.json"
 SHORT = dict(pretrain_steps=2500, steps=2500)  # the schedule the recipes were compared at (autoencoder + C Eq. 5)
-JOINT_STEPS = SHORT["pretrain_steps"] + SHORT["steps"]  # C's joint training: as many steps as the two phases
 PLAIN = dict(style_views=0.0)  # every recipe compared before the course preset took up `style_views`
-VARIANTS = {  # overrides of the course preset
-    "literal": dict(content_skip=False, content_norm=False, pretrain_steps=0, steps=JOINT_STEPS, **ACROSS, **PLAIN),
-    "joint": dict(pretrain_steps=0, steps=JOINT_STEPS, **ACROSS, **PLAIN),
-    "autoencoder": dict(beta=0.0, gamma=0.0, pretrain_steps=0, steps=SHORT["pretrain_steps"], **ACROSS, **PLAIN),
-    "across": dict(**SHORT, **ACROSS, **PLAIN),
-    "d_real_both": dict(disc_real="both", **SHORT, **ACROSS, **PLAIN),
+VARIANTS = {  # overrides of the course preset (the removed variants: module docstring)
     "union_short": dict(**SHORT, **PLAIN),
     "union_mid": dict(pretrain_steps=SHORT["pretrain_steps"], steps=2 * SHORT["steps"], **PLAIN),
-    "skip_adain": dict(skip_adain=True, **SHORT, **PLAIN),
-    "course_gain": dict(skip_gain=True, **PLAIN),
     "course_long": dict(steps=20000, **PLAIN),
-    "course_negatives": dict(style_negatives="batch", **PLAIN),
     "plain": dict(**PLAIN),
     "course_views": dict(style_views=0.3),
     "course": {},
@@ -108,13 +86,13 @@ VARIANTS = {  # overrides of the course preset
 COURSE_RUN = "OMP_NUM_THREADS=1 python -m mslib train contrastive --preset course"
 
 
-def merge_rows(saved: dict, rows: list, command: str) -> list:
-    """The saved recipe rows with `rows` (scored by `command`) in place of the rows of the same labels; new
-    labels go before the `course` row. Saved rows without their own command get the file's old one."""
-    merged = [{**r, "command": r.get("command", saved.get("command"))} for r in saved.get("rows", [])]
+def merge_rows(saved: dict, rows: list, command: str, commit: str) -> list:
+    """The saved recipe rows with `rows` (scored by `command` at `commit`) in place of the rows of the same
+    labels; new labels go before the `course` row."""
+    merged = list(saved.get("rows", []))
     at = {r["variant"]: i for i, r in enumerate(merged)}
     for row in rows:
-        row = {**row, "command": command}
+        row = {**row, "command": command, "commit": commit}
         if row["variant"] in at:
             merged[at[row["variant"]]] = row
         else:
@@ -131,7 +109,7 @@ def rounded(row: dict) -> dict:
 def score(model, pairs, evaluator, strength=None) -> dict:
     """Bench metrics on the pairs, plus the share of outputs classified as the style clip's content."""
     outs = [decode(model.transfer_features(c["features"], s["features"], strength)) for c, s in pairs]
-    row = evaluate(outs, pairs, evaluator)
+    row = score_outputs(outs, pairs, evaluator)
     c_logits = evaluator.score(outs)[0]
     pred = [evaluator.content.classes[i] for i in c_logits.argmax(1)]
     leak = np.mean([p == s["content"] != c["content"] for p, (c, s) in zip(pred, pairs)])
@@ -144,7 +122,7 @@ STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) o
 
 
 def stats_mix(content: np.ndarray, style: np.ndarray, w_mean: float, w_std: float) -> np.ndarray:
-    """A Eq. 2 on the raw (T, 263) features, partway: (c − μ(c))·(σ(s)/σ(c))^w_σ + μ(c) + w_μ·(μ(s) − μ(c));
+    """A Eq. 2 on the raw (T, D) features, partway: (c − μ(c))·(σ(s)/σ(c))^w_σ + μ(c) + w_μ·(μ(s) − μ(c));
     the root trajectory (TRAJECTORY_DIMS) stays the content's. w_σ = 0, w_μ = 1: c's movement on s's posture."""
     mu_c, mu_s = content.mean(0), style.mean(0)
     gain = ((style.std(0) + 1e-3) / (content.std(0) + 1e-3)) ** w_std
@@ -164,7 +142,7 @@ def posture_moved(out: np.ndarray, content: np.ndarray, style: np.ndarray) -> fl
 def ceiling(model, pairs, evaluator) -> dict:
     """The no-learning transfers, the packaged model's transfer split into posture and movement, and its posture shift."""
     def row(label, feats):
-        r = evaluate([decode(f) for f in feats], pairs, evaluator)
+        r = score_outputs([decode(f) for f in feats], pairs, evaluator)
         out = {"transfer": label, **rounded({k: r[k] for k in ("h", "cra", "sra", "fmd")})}
         print(out, flush=True)
         return out
@@ -225,16 +203,14 @@ def _command(argv) -> str:
     return " ".join(["python tools/contrastive_findings.py", *(argv if argv is not None else sys.argv[1:])])
 
 
-def _save(part) -> None:
-    """Merge `part` (a dict, or a function of the saved JSON that returns one) into the JSON notebook 03
-    reads, keeping the sections not re-run; written atomically."""
-    latest = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
-    merged = {**latest, **(part(latest) if callable(part) else part)}
-    RECIPES_JSON.parent.mkdir(parents=True, exist_ok=True)
-    tmp = RECIPES_JSON.with_name(RECIPES_JSON.name + ".tmp")
-    tmp.write_text(json.dumps(merged, indent=1) + "\n")
-    os.replace(tmp, RECIPES_JSON)
-    print(RECIPES_JSON)
+def save(sections: dict) -> None:
+    """Replace `sections` of the JSON notebook 03 reads, keeping the sections not re-run (written atomically)."""
+    print(update_json(RECIPES_JSON, sections))
+
+
+def _made(command: str) -> dict:
+    """A section's provenance: the command that made it and the commit it ran at."""
+    return {"command": command, "commit": current_commit()}
 
 
 def main(argv=None) -> int:
@@ -264,8 +240,8 @@ def main(argv=None) -> int:
     v.add_argument("checkpoints", nargs="+", help="`course`, a path, or LABEL=PATH")
     v.add_argument("--save", action="store_true", help=f"write the rows to {RECIPES_JSON.relative_to(ROOT)}")
     args = p.parse_args(argv)
-    paths = load_builtin(progress=False)
     if args.cmd == "train":
+        paths = load_builtin(progress=False)
         cfg = C.ContrastiveConfig.preset("course", **VARIANTS[args.variant])
         if args.resume and not Path(args.out).is_file():
             raise SystemExit(f"--resume: {args.out} does not exist")
@@ -273,7 +249,7 @@ def main(argv=None) -> int:
                 resume=args.out if args.resume else None, checkpoint_every=args.checkpoint_every)
         print(args.out)
         return 0
-    pairs, evaluator = load_pairs(0, 200, paths["content"], paths["style"], split="val"), Evaluator()
+    pairs, evaluator = val_pairs(200), Evaluator()
     if args.cmd == "ceiling":
         if args.checkpoint != "course" and "=" not in args.checkpoint:
             raise SystemExit(f"ceiling: expected `course` or LABEL=PATH, got {args.checkpoint!r}")
@@ -281,7 +257,7 @@ def main(argv=None) -> int:
         part = ceiling(model, pairs, evaluator)
         print("posture moved (median):", part["posture_moved_median"])
         if args.save:
-            _save({"ceiling" if label == "course" else f"ceiling_{label}": {"command": _command(argv), **part}})
+            save({"ceiling" if label == "course" else f"ceiling_{label}": {**_made(_command(argv)), **part}})
         return 0
     if args.cmd == "seeds":
         models, trained = {}, []
@@ -289,7 +265,7 @@ def main(argv=None) -> int:
             if ck is not None and not Path(ck).is_file():
                 raise SystemExit(f"checkpoint {ck}: no such file")
             model = C.load(ck)
-            if json.dumps(asdict(model.cfg), sort_keys=True) != json.dumps(asdict(C.ContrastiveConfig.preset("course")), sort_keys=True):
+            if model.cfg != C.ContrastiveConfig.preset("course"):
                 raise SystemExit(f"checkpoint {ck or 'packaged'}: not trained with the course preset")
             seed = read_checkpoint(ck or course_path(C.NAME), C.NAME)["extra"]["train_config"]["seed"] - 1  # phase 2: seed + 1
             if seed in models:
@@ -304,13 +280,13 @@ def main(argv=None) -> int:
                 print(rows[-1], flush=True)
         if args.save:  # the command as a reader reruns it: train each seed, then score
             names = " ".join(Path(ck).name for ck in args.checkpoints)
-            _save({"seeds": {"command": " && ".join([*trained, f"python tools/contrastive_findings.py seeds {names} --save"]),
-                             "rows": rows}})
+            save({"seeds": {**_made(" && ".join([*trained, f"python tools/contrastive_findings.py seeds {names} --save"])),
+                            "rows": rows}})
         return 0
     if args.cmd == "styles":
-        part = {"command": _command(argv), "transfers": styles(pairs, evaluator, args.checkpoints)}
+        part = {**_made(_command(argv)), "transfers": styles(pairs, evaluator, args.checkpoints)}
         if args.save:
-            _save({"styles": part})
+            save({"styles": part})
         return 0
     if args.cmd == "strength":
         model = C.load()
@@ -319,20 +295,19 @@ def main(argv=None) -> int:
             sweep.append({"strength": st, **rounded(score(model, pairs, evaluator, st))})
             print(sweep[-1], flush=True)
         if args.save:
-            _save({"strength": {"command": _command(argv), "course_strength": model.cfg.style_strength, "rows": sweep}})
+            save({"strength": {**_made(_command(argv)), "course_strength": model.cfg.style_strength, "rows": sweep}})
         return 0
     rows = []
     for label, model in labelled_models(args.checkpoints):
         row = {"variant": label, **rounded(score(model, pairs, evaluator, 1.0)),
-               "steps": [model.cfg.pretrain_steps, model.cfg.steps], "pairs": model.cfg.pairs}
+               "steps": [model.cfg.pretrain_steps, model.cfg.steps], "pairs": "union"}  # M^T, M^S ~ content ∪ style
         rows.append(row)
         print(row, flush=True)
     if args.save:
-        def with_rows(saved: dict) -> dict:
-            if saved.get("val_pairs", len(pairs)) != len(pairs):
-                raise SystemExit(f"{RECIPES_JSON}: rows scored on {saved['val_pairs']} pairs, these on {len(pairs)}")
-            return {"val_pairs": len(pairs), "rows": merge_rows(saved, rows, _command(argv))}
-        _save(with_rows)
+        saved = json.loads(RECIPES_JSON.read_text()) if RECIPES_JSON.is_file() else {}
+        if saved.get("val_pairs", len(pairs)) != len(pairs):
+            raise SystemExit(f"{RECIPES_JSON}: rows scored on {saved['val_pairs']} pairs, these on {len(pairs)}")
+        save({"val_pairs": len(pairs), "rows": merge_rows(saved, rows, _command(argv), current_commit())})
     return 0
 
 

@@ -7,6 +7,7 @@ Each table sits between `<!-- NAME:start -->` and `<!-- NAME:end -->` markers; t
 """
 from __future__ import annotations
 
+import argparse
 import os
 import platform
 import subprocess
@@ -14,8 +15,10 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import ROOT  # noqa: E402
+
+TABLES = ("readme", "timings")
 
 
 def replace_between(path: Path, name: str, body: str) -> None:
@@ -61,13 +64,21 @@ def notebook_timings() -> str:
                               "corpora already cached.*")
 
 
-if __name__ == "__main__":
-    what = sys.argv[1:] or ["readme", "timings"]
-    for w in what:
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("tables", nargs="*", metavar="TABLE", help=f"any of {', '.join(TABLES)} (default: both)")
+    tables = ap.parse_args(argv).tables or TABLES
+    unknown = [w for w in tables if w not in TABLES]
+    if unknown:
+        ap.error(f"unknown table {unknown[0]!r}: expected 'readme' or 'timings'")
+    for w in tables:
         if w == "readme":
             replace_between(ROOT / "README.md", "bench-table", readme_table())
-        elif w == "timings":
-            replace_between(ROOT / "notebooks" / "INSTRUCTORS.md", "notebook-timings", notebook_timings())
         else:
-            raise SystemExit(f"unknown table {w!r}: expected 'readme' or 'timings'")
+            replace_between(ROOT / "notebooks" / "INSTRUCTORS.md", "notebook-timings", notebook_timings())
         print(f"updated {w}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

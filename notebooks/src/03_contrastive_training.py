@@ -55,7 +55,7 @@ print({k: getattr(cfg, k) for k in ("hidden", "style_dim", "down", "alpha", "bet
 # normalised target). G then supplies the posture (the time mean, which the instance-normalised content
 # code cannot carry) and any change of the movement. *Why:* in a few CPU minutes the paper-literal
 # generator, which sees only the two codes, reconstructs poorly; section 4 scores it beside the other
-# recipes on a validation draw (`tools/contrastive_findings.py` trains and scores it). *What it costs:* the target's movement
+# recipes on a validation draw (its row reproduces at commit 3748be4, where that option still lived). *What it costs:* the target's movement
 # reaches the output without passing through E_c, so InfoNCE (C Eq. 3) has little left to enforce, and
 # the posture comes from the style code alone — which is how the style clip's *content* can leak into
 # a transfer (section 6 measures it).
@@ -218,7 +218,8 @@ _ = fig
 # FMD (lower = closer to real motion) is the benchmark's realism measure.
 # "Content from style clip" is the share of transfers the content classifier names after the *style*
 # clip's content. Made by `tools/contrastive_findings.py` (its command is printed; `train VARIANT` makes
-# each model); this cell reads its JSON.
+# each model; variants whose options have left the library train at commit 3748be4, and each row names the
+# commit that made it); this cell reads its JSON.
 
 # %%
 recipes = load_findings("03_contrastive_recipes")  # written by tools/contrastive_findings.py
@@ -388,9 +389,9 @@ _ = fig
 # The movement gain leans the same way as `skip_adain`, far more mildly: on both seeds the transfers
 # lose content (CRA); on one the style (SRA) rises, on the other it does not and more transfers take the
 # style clip's content instead (the printed lines give each seed's changes). Whether it pays in H depends
-# on the run, so by the rule fixed before the runs were scored it stays out of the preset: a `skip_gain`
-# option of `ContrastiveConfig`, in neither preset, for students who want to try it
-# (`tools/contrastive_findings.py train course_gain OUT`).
+# on the run, so by the rule fixed before the runs were scored it stays out of the preset, and `skip_gain` has
+# left the library: `git checkout 3748be4`, then `tools/contrastive_findings.py train course_gain OUT`,
+# reproduces it.
 #
 # Twice the second phase does not carry the trend on: on both seeds the longer run scores below the
 # `plain` run of the same seed, losing both content (CRA) and style (SRA), and it moves further
@@ -514,7 +515,7 @@ _ = fig
 # %% [markdown]
 # **Asking for more: every other source as a negative.** A direct test of that reading keeps C Eq. 4's
 # hinge and margin and gives it more negatives: besides the target's code, the codes of the other sources
-# in the batch (`style_negatives="batch"`, `triplet_loss_batch`). With $q_i = E_s(M^G_i)$,
+# in the batch (`style_negatives="batch"`, `triplet_loss_batch`, at commit 3748be4). With $q_i = E_s(M^G_i)$,
 # $k^+_i = E_s(M^S_i)$, $k^-_i = E_s(M^T_i)$ and $d$ the Euclidean distance, over a batch of $B$ pairs:
 #
 # $$\mathcal{L}_{tri} = \frac{1}{B^2}\sum_{i}\Big([d(q_i,k^+_i) - d(q_i,k^-_i) + \lambda]_+
@@ -537,9 +538,8 @@ print(f"{missed[0]}: below the half-posture mix on both runs:",
 
 # %% [markdown]
 # It does not pay. On both seeds H ends below `plain`'s run of the same seed, with less content
-# (CRA) and no more style (SRA), so by the rule it stays out of the preset (an option of
-# `ContrastiveConfig` for students who want to try it; `tools/contrastive_findings.py train course_negatives
-# OUT` reproduces a run). Nor does it mend the styles it was aimed at: the one `plain` reaches
+# (CRA) and no more style (SRA), so by the rule it stays out of the preset (the option has left
+# the library; at commit 3748be4, `tools/contrastive_findings.py train course_negatives OUT` reproduces a run). Nor does it mend the styles it was aimed at: the one `plain` reaches
 # least stays far below the half-posture mix on both runs, still read mostly as the same other style, and
 # the second moves on one run only (the lines above and the picture). More
 # negatives only help as far as the judge sees the difference, and this judge, E_s frozen after an

@@ -6,7 +6,7 @@
 """
 from .data import PairedClips
 from .model import (NAME, ContrastiveConfig, ContrastiveModel, adversarial_losses, info_nce, reconstruction_loss,
-                    recording_nce, triplet_loss, triplet_loss_batch)
+                    recording_nce, triplet_loss)
 from .train import run, train
 from .transfer import contrastive_method, interpolate_styles, load
 

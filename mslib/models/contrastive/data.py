@@ -9,17 +9,10 @@ from ...data.corpora import take_of
 from ...data.datasets import MotionFolder
 
 
-def check_pairs(pairs: str) -> str:
-    """`pairs` itself, if it names a way to draw training pairs ("union" or "across")."""
-    if pairs not in ("union", "across"):
-        raise ValueError(f"pairs: expected 'union' or 'across', got {pairs!r}")
-    return pairs
-
-
 class PairedClips(Dataset):
     """Random (target, source) pairs, unlabelled, both normalised with the content corpus's statistics:
-    item i = a `crop`-row window of clip i and of a random clip, drawn from the content ∪ style corpus
-    (`pairs="union"`, C's one set X), or of content clip i and a random style clip (`pairs="across"`).
+    item i = a `crop`-row window of clip i and of a random clip, both of the content ∪ style corpus (C's one
+    set X: M^T, M^S ~ X).
 
     exclude_styles: styles to leave out of both corpora (the unseen-style experiment, C Fig. 3: every
     clip labelled with them is dropped; the labels are read only for this filter).
@@ -28,8 +21,7 @@ class PairedClips(Dataset):
     split holds one (`corpora.take_of`; no label is read)."""
 
     def __init__(self, content_folder, style_folder, split: str = "train", crop: int = 31,
-                 exclude_styles=(), mean=None, std=None, pairs: str = "union", views: bool = False):
-        self.pairs = check_pairs(pairs)
+                 exclude_styles=(), mean=None, std=None, views: bool = False):
         self.views = bool(views)
         self.content = MotionFolder(content_folder, split, normalize=False, labels=())
         style = MotionFolder(style_folder, split, normalize=False, labels=("style",))
@@ -48,7 +40,7 @@ class PairedClips(Dataset):
         self.same_take = {j: [o for o in group if o != j] for group in takes.values() for j in group}
 
     def __len__(self) -> int:
-        return len(self.content_index) + (len(self.style_index) if self.pairs == "union" else 0)
+        return len(self.content_index) + len(self.style_index)
 
     def _clip(self, i: int) -> np.ndarray:
         """Features of clip i of content + style clips: the content clips first, then the style clips."""
@@ -58,6 +50,7 @@ class PairedClips(Dataset):
         return self.style._arrays(self.style_index[i - n])[0]
 
     def _window(self, f: np.ndarray) -> np.ndarray:
+        """A random `crop`-row window of (T, D) features (short clips padded with their last row)."""
         if len(f) < self.crop:  # edge-pad short clips
             return np.concatenate([f, np.repeat(f[-1:], self.crop - len(f), 0)])
         s = np.random.randint(len(f) - self.crop + 1)
@@ -65,10 +58,7 @@ class PairedClips(Dataset):
 
     def __getitem__(self, i: int) -> dict:
         tgt = self._window(self._clip(i))
-        if self.pairs == "union":  # M^T, M^S ~ X
-            j = np.random.randint(len(self))
-        else:  # a style clip: they follow the content clips in `_clip`'s numbering
-            j = len(self.content_index) + np.random.randint(len(self.style_index))
+        j = np.random.randint(len(self))  # M^T, M^S ~ X
         src = self._window(self._clip(j))
         norm = lambda a: torch.from_numpy(((a - self.mean) / self.std).astype(np.float32))  # noqa: E731
         item = {"target": norm(tgt), "source": norm(src)}

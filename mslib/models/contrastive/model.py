@@ -1,127 +1,103 @@
 """Paper C: self-supervised contrastive disentanglement of content and style.
 
-E_c maps a motion to a content code h×t over time, E_s to a style vector; the generator G decodes
-a content code with AdaIN parameters predicted from a style code; an MLP discriminator judges
-realism. A training pair is a target M^T and a source M^S, drawn at random and never labelled, both
-from the union of the content and style corpora (C's one set X; `pairs="across"` draws M^T from the
-content corpus and M^S from the style corpus, the benchmark's direction); M^G = G(E_c(M^T) | E_s(M^S)).
-Losses: C Eq. 1 reconstruction, C Eq. 2 adversarial (non-saturating form), C Eq. 3 InfoNCE with a
-bilinear score on content codes, C Eq. 4 triplet with margin 1 on style codes, C Eq. 5 their weighted sum.
+The idea: a motion M is split into a content code E_c(M) (h channels over t = T / down time steps) and a
+style code E_s(M) (one l-vector); a generator G decodes a content code with AdaIN parameters predicted
+from a style code. No labels are read: a training pair is a target M^T and a source M^S, two random
+clips of one set X (here the union of the content and style corpora), and the transfer is
+M^G = G(E_c(M^T) | E_s(M^S)). Contrastive terms whose positives and negatives are drawn from inside the
+pair itself make the two codes carry what their names say:
 
-Three departures from C, all in the course preset only (the `paper` preset is C as written):
-- `content_skip=True`: G's output is added to the target's movement around its time mean, so G
-  supplies the posture and any change of the movement. It trains in CPU minutes (the paper-literal
-  variant, `content_skip=False, content_norm=False`, scores below the course recipe on a validation
-  draw, with the worst FMD: `tools/contrastive_findings.py`), but the movement bypasses E_c, leaving
-  InfoNCE little to enforce, and the posture comes from the style code alone, so the style clip's
-  content can leak into the transfer (measured in notebook 03).
-- `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is
-  frozen and the rest trains on all of C Eq. 5. Trained jointly, C Eq. 4 also trains its own judge:
-  E_s can meet the triplet by moving its codes instead of G moving the style.
-- `style_views=0.3`: while E_s trains (the autoencoder phase), δ·`recording_nce`, InfoNCE between the style codes
-  of two windows of one recording, the batch's other recordings as negatives (no labels), so that the judge C Eq. 4
-  freezes knows what stays the same through a recording, not only what G needs to reconstruct it. On validation
-  pairs it lifted H on both seeds it was judged by, by a rule fixed before they were scored (notebook 03 §4).
-`style_strength` w (default 1, C's transfer) decodes E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's
-mix of two style codes with the target's own as one end (`tools/contrastive_findings.py strength`
-sweeps it on validation pairs).
+    C Eq. 1  L_rec = ‖G(E_c(M^S) | E_s(M^S)) − M^S‖ + ‖G(E_c(M^T) | E_s(M^T)) − M^T‖   reconstruction_loss
+    C Eq. 2  L_gan: −log D(M^S) − log(1 − D(M^G)) for D, −log D(M^G) for G (non-saturating)   adversarial_losses
+    C Eq. 3  L_nce = −log exp f(q, k⁺) / Σ_k exp f(q, k), f(q, k) = qᵀWk / √h                  info_nce
+             q: step i of E_c(M^G); k⁺: step i of E_c(M^T); the sum over k⁺ and E_c(M^T)'s other steps
+    C Eq. 4  L_tri = [‖E_s(M^G) − E_s(M^S)‖ − ‖E_s(M^G) − E_s(M^T)‖ + λ]₊, λ = 1           triplet_loss
+    C Eq. 5  L = L_rec + α·L_gan + β·L_nce + γ·L_tri, α = 1, β = γ = 0.3                  training_step
 
-`skip_adain=True` (in neither preset) instance-normalises the skipped movement and rescales it by a σ per
-dimension that G predicts from the style code (A Eq. 2 on the skip), so the style code must carry the
-movement's scale; on validation pairs it carries the style clip's content with it (notebook 03 §4).
-
-`style_negatives="batch"` (in neither preset) adds the other pairs' source codes to C Eq. 4's negatives, so
-E_s(M^G) must lie nearer its own source's code than any other source's, not only nearer than the target's.
-
-C Eq. 2's real motions are the source clips M^S, as C writes. With `pairs="across"` they are the style
-corpus alone, and D pulls every transfer toward style-corpus motion, content included; `disc_real="both"`
-shows D the target clips as real too (neither is in a preset; notebook 03 §4 measures both).
-
-The discriminator has its own optimiser, owned by the model and stepped inside `training_step`
-on detached generated motion; the one loop (`mslib.training.fit`) optimises everything else,
+The discriminator D (an MLP on windows of frames) has its own optimiser, owned by the model and stepped
+inside `training_step` on detached M^G; the one loop (`mslib.training.fit`) optimises everything else,
 given `parameters=model.generator_parameters()`.
+
+The `paper` preset (the dataclass defaults) is C as written (C §4.1: 144-d codes, batch 16, lr 1e-4,
+200k iterations, joint training). The `course` preset trains on a CPU in minutes, with three departures
+(notebook 03 §4 compares the recipes on validation pairs):
+- `content_skip=True`: G's output is added to the target's own movement around its time mean, x − μ_t(x),
+  so G supplies the posture (the time mean, which the instance-normalised content code cannot carry) and
+  any change of the movement. Why: in CPU minutes a generator that sees only the two codes reconstructs
+  poorly. What it costs: the movement bypasses E_c, leaving InfoNCE little to enforce, and the posture
+  comes from the style code alone, so the style clip's content can leak into a transfer.
+- `pretrain_steps`: E_c, E_s, G and D first train as an autoencoder on C Eq. 1–2 alone; then E_s is frozen
+  and the rest trains on all of C Eq. 5. Why: trained jointly, C Eq. 4 also trains its own judge, and E_s
+  can meet the triplet by moving its codes instead of G moving the style; frozen, E_s is a fixed judge.
+- `style_views` δ: while E_s trains (the autoencoder phase) the loss also holds δ·L_views, InfoNCE between
+  the style codes of two windows of one recording, the batch's other recordings as negatives (no labels):
+      L_views = ½ [CE(S, I) + CE(Sᵀ, I)], S_ij = cos(E_s(M^S_i), E_s(V_j)) / τ                 recording_nce
+  (V_j another window of M^S_j's recording, CE(S, I) the cross-entropy of each row of S against its diagonal).
+  Why: an autoencoder alone teaches E_s what G needs to reconstruct a clip, not what stays the same through
+  a recording; the judge C Eq. 4 freezes should know the latter.
+`style_strength` w (1: C's transfer) decodes with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's mix of
+two style codes with the target's own code as one end.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import torch
 import torch.nn.functional as F
 from torch import nn
 
-from ...motion.features import N_FEATURES
+from ...motion.features import BLOCKS, N_FEATURES
 from ...training import TrainConfig
-from .data import check_pairs
-from ..common.layers import ResBlock1d, adain
+from ..common.config import Config
+from ..common.layers import Normalized, ResBlock1d, adain
 
 NAME = "contrastive"
+DISC_DIMS = (BLOCKS["root_y"].start, BLOCKS["ric"].stop)  # root height + root-relative joints: what decode reads
 
 
 @dataclass
-class ContrastiveConfig:
-    """Sizes, loss weights and optimisation of paper C; `paper` and `course` presets."""
+class ContrastiveConfig(Config):
+    """Sizes, loss weights and optimisation of paper C; defaults are C's (§4.1), `course` is the CPU recipe."""
 
-    feature_dim: int = N_FEATURES
     hidden: int = 144          # content code channels h (C §4.1: 144×16 for 32 frames)
     style_dim: int = 144       # style code length l (C §4.1: 144)
     down: int = 2              # temporal stride of E_c: t = T / down
     disc_hidden: int = 256
     disc_window: int = 4       # the MLP discriminator scores windows of this many frames
-    disc_dims: tuple = (3, 67)  # … of these dims: root height + root-relative joints (what decode reads)
+    disc_dims: tuple = DISC_DIMS  # … of these dims [lo, hi)
     alpha: float = 1.0         # C Eq. 5: adversarial weight
     beta: float = 0.3          # C Eq. 5: InfoNCE weight
     gamma: float = 0.3         # C Eq. 5: triplet weight
     margin: float = 1.0        # C Eq. 4: λ
-    style_views: float = 0.0   # weight δ of InfoNCE between E_s codes of two windows of one recording, while E_s trains (not in C)
-    style_tau: float = 0.1     # … its temperature (cosine similarities)
-    style_negatives: str = "target"  # C Eq. 4's negatives: "target" (E_s(M^T), C) or "batch" (… and the other pairs' E_s(M^S))
+    style_views: float = 0.0   # weight δ of L_views while E_s trains (course departure; 0: C)
+    style_tau: float = 0.1     # … its temperature τ (cosine similarities)
     keep_root: int = 3         # transfer keeps these leading dims (root trajectory) from the content
-    content_skip: bool = False  # G adds the target's own movement around its time mean (course preset)
-    skip_adain: bool = False   # … that movement instance-normalised and rescaled by a σ G predicts from the style code
-    skip_eps: float = 1e-2     # the variance floor of that normalisation (normalised units: σ ≥ 0.1)
-    skip_gain: bool = False    # … that movement scaled per dim by exp(A·(E_s(M^S) − E_s(M^T))), A zero at the start
-    content_norm: bool = True  # E_c ends with instance normalisation over time (drops each channel's time mean)
-    pairs: str = "union"       # M^T and M^S both drawn from content ∪ style corpus (C's one set X), or "across":
-                               # M^T from the content corpus, M^S from the style corpus (the benchmark's direction)
-    disc_real: str = "source"  # C Eq. 2's real motions: "source" (M^S) or "both" (M^S and M^T)
+    content_skip: bool = False  # G adds the target's own movement around its time mean (course departure)
     crop: int = 31             # training clips: 31 feature rows = 32-frame clips (C §4.1)
     d_lr: float = 1e-4         # the discriminator's own optimiser
     steps: int = 200_000
     batch_size: int = 16
     lr: float = 1e-4
     warmup_steps: int = 0
-    pretrain_steps: int = 0    # autoencoder steps (C Eq. 1 + 2 only) before E_s is frozen; 0: C's joint training
-    style_strength: float = 1.0  # transfer with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)) (C Fig. 10–11's mix); 1: C's transfer
+    pretrain_steps: int = 0    # autoencoder steps (C Eq. 1 + 2 only) before E_s is frozen (course departure; 0: C)
+    style_strength: float = 1.0  # transfer with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)) (C Fig. 10–11's mix); 1: C's
+
+    PRESETS: ClassVar[dict] = {
+        "paper": {},
+        "course": dict(hidden=64, style_dim=64, disc_hidden=128, steps=10000, batch_size=32, lr=1e-3, d_lr=5e-4,
+                       warmup_steps=100, content_skip=True, pretrain_steps=2500, style_views=0.3),
+    }
+    # the research options of tools/contrastive_findings.py's removed variants (RETIRED_AT), and the feature
+    # width (always N_FEATURES), with the values the library now always computes
+    RETIRED: ClassVar[dict] = {"feature_dim": N_FEATURES, "skip_adain": False, "skip_eps": 0.01, "skip_gain": False,
+                               "style_negatives": "target", "content_norm": True, "pairs": "union",
+                               "disc_real": "source"}
 
     def __post_init__(self):
-        if self.disc_real not in ("source", "both"):
-            raise ValueError(f"disc_real: expected 'source' or 'both', got {self.disc_real!r}")
-        check_pairs(self.pairs)
-        if self.style_negatives not in ("target", "batch"):
-            raise ValueError(f"style_negatives: expected 'target' or 'batch', got {self.style_negatives!r}")
         if self.style_views < 0 or self.style_tau <= 0:
             raise ValueError(f"style_views, style_tau: need δ ≥ 0 and τ > 0, got {self.style_views}, {self.style_tau}")
-        if (self.skip_adain or self.skip_gain) and not self.content_skip:
-            raise ValueError("skip_adain/skip_gain: need content_skip=True (they act on the content skip)")
-        if self.skip_adain and self.skip_gain:
-            raise ValueError("skip_adain, skip_gain: choose one way to restyle the skipped movement")
-
-    @classmethod
-    def preset(cls, name: str, **overrides) -> "ContrastiveConfig":
-        """`paper` (C §4.1: batch 16, lr 1e-4, 200k iterations, 144-d codes) or `course` (CPU, minutes)."""
-        if name == "paper":
-            cfg = cls()
-        elif name == "course":
-            cfg = cls(hidden=64, style_dim=64, disc_hidden=128, steps=10000, batch_size=32, lr=1e-3,
-                      d_lr=5e-4, warmup_steps=100, content_skip=True, pretrain_steps=2500, style_views=0.3)
-        else:
-            raise ValueError(f"preset: expected 'paper' or 'course', got {name!r}")
-        known = {f.name for f in fields(cls)}
-        bad = sorted(set(overrides) - known)
-        if bad:
-            raise ValueError(f"overrides: unknown config fields {bad}")
-        return replace(cfg, **overrides)
 
     def train_config(self, seed: int = 0) -> TrainConfig:
         """The one loop's settings for this config."""
@@ -141,10 +117,10 @@ class ContentEncoder(nn.Module):
         super().__init__()
         h = cfg.hidden
         self.net = nn.Sequential(
-            _conv(cfg.feature_dim, h, 4 if cfg.down == 2 else 3, cfg.down), nn.LeakyReLU(0.2),
+            _conv(N_FEATURES, h, 4 if cfg.down == 2 else 3, cfg.down), nn.LeakyReLU(0.2),
             _conv(h, h), nn.LeakyReLU(0.2),
             _conv(h, h), nn.InstanceNorm1d(h),
-            *[ResBlock1d(h) for _ in range(3)], nn.InstanceNorm1d(h) if cfg.content_norm else nn.Identity())
+            *[ResBlock1d(h) for _ in range(3)], nn.InstanceNorm1d(h))  # the code: each channel's time mean dropped
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         return self.net(x.transpose(1, 2))  # (B, h, t)
@@ -157,7 +133,7 @@ class StyleEncoder(nn.Module):
         super().__init__()
         h = cfg.hidden
         self.net = nn.Sequential(
-            _conv(cfg.feature_dim, h, 4, 2), nn.LeakyReLU(0.2),
+            _conv(N_FEATURES, h, 4, 2), nn.LeakyReLU(0.2),
             _conv(h, h, 4, 2), nn.LeakyReLU(0.2),
             _conv(h, h), *[ResBlock1d(h) for _ in range(3)], nn.LeakyReLU(0.2))
         self.out = nn.Linear(h, cfg.style_dim)
@@ -190,18 +166,10 @@ class Generator(nn.Module):
         h = cfg.hidden
         self.style_mlp = nn.Sequential(nn.Linear(cfg.style_dim, h), nn.LeakyReLU(0.2), nn.Linear(h, h))
         self.blocks = nn.ModuleList(AdaINResBlock(h, h) for _ in range(4))
-        self.head = nn.Sequential(_conv(h, h), nn.LeakyReLU(0.2), nn.Conv1d(h, cfg.feature_dim, 1))
+        self.head = nn.Sequential(_conv(h, h), nn.LeakyReLU(0.2), nn.Conv1d(h, N_FEATURES, 1))
         if cfg.content_skip:  # start as the identity on the content's movement (zero-initialised output layer)
             nn.init.zeros_(self.head[-1].weight)
             nn.init.zeros_(self.head[-1].bias)
-        self.skip_log_sigma = nn.Linear(h, cfg.feature_dim) if cfg.skip_adain else None
-        if self.skip_log_sigma is not None:  # start at σ = 1 for every dim
-            nn.init.zeros_(self.skip_log_sigma.weight)
-            nn.init.zeros_(self.skip_log_sigma.bias)
-
-    def skip_sigma(self, style: torch.Tensor) -> torch.Tensor:
-        """σ per feature dim for the content skip's movement (`skip_adain`): (B, l) → (B, 1, D)."""
-        return self.skip_log_sigma(self.style_mlp(style)).clamp(-5.0, 3.0).exp()[:, None]
 
     def forward(self, content: torch.Tensor, style: torch.Tensor, length: int) -> torch.Tensor:
         s = self.style_mlp(style)  # (B, h)
@@ -228,7 +196,7 @@ class Discriminator(nn.Module):
         n = T // self.w
         if n < 1:
             raise ValueError(f"x: needs at least disc_window={self.w} frames, got {T}")
-        return self.mlp(x[:, :n * self.w].reshape(B, n, self.w * D)).squeeze(-1)
+        return self.mlp(x[:, :n * self.w].reshape(B, n, self.w * D)).squeeze(-1)  # (B, n)
 
 
 # ---------------------------------------------------------------- losses
@@ -256,7 +224,7 @@ def info_nce(query: torch.Tensor, keys: torch.Tensor, W: torch.Tensor) -> torch.
     h = query.shape[1]
     scores = torch.einsum("bhi,hg,bgj->bij", query, W, keys) / h ** 0.5  # (B, t, t): f(q_i, k_j)
     target = torch.arange(scores.shape[-1], device=scores.device).expand(scores.shape[0], -1)  # (B, t)
-    return F.cross_entropy(scores.reshape(-1, scores.shape[-1]), target.reshape(-1))
+    return F.cross_entropy(scores.reshape(-1, scores.shape[-1]), target.reshape(-1))  # −log softmax at k⁺
 
 
 def triplet_loss(query: torch.Tensor, positive: torch.Tensor, negative: torch.Tensor,
@@ -267,54 +235,33 @@ def triplet_loss(query: torch.Tensor, positive: torch.Tensor, negative: torch.Te
     return F.relu(d_pos - d_neg + margin).mean()
 
 
-def triplet_loss_batch(query: torch.Tensor, positive: torch.Tensor, negative: torch.Tensor,
-                       margin: float = 1.0) -> torch.Tensor:
-    """C Eq. 4 with more negatives: for pair i, the hinge against E_s(M^T_i) and against every other pair's
-    positive k⁺_j (j ≠ i), averaged over those B negatives and the batch; C Eq. 4 itself when B = 1. Codes (B, l)."""
-    B = query.shape[0]
-    d_pos = (query - positive).norm(dim=-1)                 # (B,)
-    d_others = torch.cdist(query, positive)                  # (B, B): ‖q_i − k⁺_j‖
-    d_neg = torch.cat([(query - negative).norm(dim=-1)[:, None],
-                       d_others[~torch.eye(B, dtype=torch.bool, device=query.device)].view(B, B - 1)], 1)  # (B, B)
-    return F.relu(d_pos[:, None] - d_neg + margin).mean()
-
-
 def recording_nce(codes: torch.Tensor, views: torch.Tensor, tau: float = 0.1) -> torch.Tensor:
-    """InfoNCE between two windows of each recording (not in C): code i's positive is view i, its negatives the
-    other views in the batch, scored by cosine / τ, in both directions; codes (B, l). No labels: a recording keeps
-    its style over time, so codes that find their own recording's other window must carry what stays the same."""
+    """L_views (course departure, not in C): code i's positive is view i, its negatives the other views in the
+    batch, scored by cosine / τ, in both directions; codes (B, l). No labels: a recording keeps its style over
+    time, so codes that find their own recording's other window must carry what stays the same."""
     if codes.shape != views.shape or codes.dim() != 2:
         raise ValueError(f"codes/views: need equal (B, l) shapes, got {tuple(codes.shape)} and {tuple(views.shape)}")
-    scores = F.normalize(codes, dim=-1) @ F.normalize(views, dim=-1).T / tau  # (B, B)
+    scores = F.normalize(codes, dim=-1) @ F.normalize(views, dim=-1).T / tau  # (B, B): S_ij
     target = torch.arange(len(codes), device=codes.device)
     return 0.5 * (F.cross_entropy(scores, target) + F.cross_entropy(scores.T, target))
 
 
 # ---------------------------------------------------------------- the model
-class ContrastiveModel(nn.Module):
+class ContrastiveModel(Normalized):
     """E_c, E_s, G, D and the bilinear W, with C's losses and the normaliser of the training data."""
 
-    def __init__(self, cfg: ContrastiveConfig | None = None, mean=None, std=None):
-        super().__init__()
-        self.cfg = cfg or ContrastiveConfig.preset("course")
-        self.config = asdict(self.cfg)
-        self.content_encoder = ContentEncoder(self.cfg)
-        self.style_encoder = StyleEncoder(self.cfg)
-        self.generator = Generator(self.cfg)
-        self.discriminator = Discriminator(self.cfg)
-        self.W = nn.Parameter(torch.eye(self.cfg.hidden))  # C Eq. 3: bilinear score qᵀWk
-        D = self.cfg.feature_dim
-        self.register_buffer("mean", torch.zeros(D) if mean is None else torch.as_tensor(mean, dtype=torch.float32))
-        self.register_buffer("std", torch.ones(D) if std is None else torch.as_tensor(std, dtype=torch.float32))
-        self._d_opt = None
-        # `skip_gain`: log-gain per feature dim, linear in the style codes' difference, zero at the start (gain 1);
-        # made without drawing random numbers, so every other weight and batch is as without it
-        self.movement_gain = None
-        if self.cfg.skip_gain:
-            self.movement_gain = nn.utils.skip_init(nn.Linear, self.cfg.style_dim, D, bias=False)
-            nn.init.zeros_(self.movement_gain.weight)
-
     pretraining = False  # True while `train` runs the autoencoder steps (C Eq. 3–4 logged, not used)
+
+    def __init__(self, cfg: ContrastiveConfig | dict | None = None, mean=None, std=None):
+        super().__init__(mean, std)
+        cfg = ContrastiveConfig.from_dict(cfg) if isinstance(cfg, dict) else (cfg or ContrastiveConfig.preset("course"))
+        self.cfg, self.config = cfg, cfg.to_dict()
+        self.content_encoder = ContentEncoder(cfg)
+        self.style_encoder = StyleEncoder(cfg)
+        self.generator = Generator(cfg)
+        self.discriminator = Discriminator(cfg)
+        self.W = nn.Parameter(torch.eye(cfg.hidden))  # C Eq. 3: bilinear score qᵀWk
+        self._d_opt = None
 
     # -- pieces
     def generator_parameters(self) -> list:
@@ -327,63 +274,48 @@ class ContrastiveModel(nn.Module):
             self._d_opt = torch.optim.Adam(self.discriminator.parameters(), lr=self.cfg.d_lr, betas=(0.5, 0.999))
         return self._d_opt
 
-    def normalize(self, x: torch.Tensor) -> torch.Tensor:
-        return (x - self.mean) / self.std
-
-    def denormalize(self, x: torch.Tensor) -> torch.Tensor:
-        return x * self.std + self.mean
-
     def encode_content(self, x: torch.Tensor) -> torch.Tensor:
-        """Normalised (B, T, D) → content code (B, h, t)."""
+        """Normalised (B, T, D) → content code E_c (B, h, t)."""
         return self.content_encoder(x)
 
     def encode_style(self, x: torch.Tensor) -> torch.Tensor:
-        """Normalised (B, T, D) → style code (B, l)."""
+        """Normalised (B, T, D) → style code E_s (B, l)."""
         return self.style_encoder(x)
 
     def generate(self, content_code: torch.Tensor, style_code: torch.Tensor, length: int,
-                 content: torch.Tensor | None = None, content_style: torch.Tensor | None = None) -> torch.Tensor:
-        """G(E_c(·) | E_s(·)) → normalised (B, length, D); with `content_skip`, plus the content
-        motion's own movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D)),
-        with `skip_adain` as AdaIN gives it: σ̂(style code)·(x − μ_t(x))/σ_t(x), with `skip_gain` times
-        exp(A·(s − s_x)), s_x = `content_style`, the content's own style code (default: E_s(x))."""
-        out = self.generator(content_code, style_code, length)
+                 content: torch.Tensor | None = None) -> torch.Tensor:
+        """G(E_c(·) | E_s(·)) → normalised (B, length, D); with `content_skip`, plus the content motion's own
+        movement around its time mean, x − μ_t(x) (x: the normalised content, (B, length, D))."""
+        out = self.generator(content_code, style_code, length)  # (B, T, D)
         if self.cfg.content_skip:
             if content is None:
                 raise ValueError("content: needed by a model with content_skip=True")
-            if self.cfg.skip_adain:  # A Eq. 2 on the skip, σ from the style code, μ from G's output
-                return out + adain(content, 0.0, self.generator.skip_sigma(style_code), eps=self.cfg.skip_eps)
-            move = content - content.mean(1, keepdim=True)  # (B, T, D)
-            if self.movement_gain is not None:  # 1 when the two codes agree: reconstruction never trains A
-                own = self.encode_style(content) if content_style is None else content_style  # (B, l)
-                move = move * self.movement_gain(style_code - own).clamp(-3.0, 3.0).exp()[:, None]
-            out = out + move
+            out = out + (content - content.mean(1, keepdim=True))  # the course departure: the target's movement
         return out
 
     def _check(self, x, name):
-        if x.dim() != 3 or x.shape[-1] != self.cfg.feature_dim:
-            raise ValueError(f"{name}: expected (B, T, {self.cfg.feature_dim}), got {tuple(x.shape)}")
+        if x.dim() != 3 or x.shape[-1] != N_FEATURES:
+            raise ValueError(f"{name}: expected (B, T, {N_FEATURES}), got {tuple(x.shape)}")
         if x.shape[1] < max(4, self.cfg.disc_window):
             raise ValueError(f"{name}: needs at least {max(4, self.cfg.disc_window)} frames, got {x.shape[1]}")
 
     # -- training
     def losses(self, target: torch.Tensor, source: torch.Tensor, source_view: torch.Tensor | None = None) -> dict:
         """Every term of C Eq. 1–5 for normalised target M^T and source M^S (B, T, D), without the D step;
-        with `source_view` (another window of each source's recording) also `recording_nce` as "views"."""
+        with `source_view` (another window of each source's recording) also L_views as "views"."""
         self._check(target, "target")
         self._check(source, "source")
         T = target.shape[1]
         c_t, c_s = self.encode_content(target), self.encode_content(source)  # (B, h, t)
         s_t, s_s = self.encode_style(target), self.encode_style(source)      # (B, l)
-        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1], source, s_s), source)  # C Eq. 1
-               + reconstruction_loss(self.generate(c_t, s_t, T, target, s_t), target))
-        fake = self.generate(c_t, s_s, T, target, s_t)  # M^G = G(E_c(M^T) | E_s(M^S))
-        nce = info_nce(self.encode_content(fake), c_t, self.W)                              # C Eq. 3
-        triplet = triplet_loss_batch if self.cfg.style_negatives == "batch" else triplet_loss
-        tri = triplet(self.encode_style(fake), s_s, s_t, self.cfg.margin)                   # C Eq. 4
+        rec = (reconstruction_loss(self.generate(c_s, s_s, source.shape[1], source), source)  # C Eq. 1
+               + reconstruction_loss(self.generate(c_t, s_t, T, target), target))
+        fake = self.generate(c_t, s_s, T, target)  # M^G = G(E_c(M^T) | E_s(M^S))
+        nce = info_nce(self.encode_content(fake), c_t, self.W)                     # C Eq. 3: q ~ E_c(M^G), k ~ E_c(M^T)
+        tri = triplet_loss(self.encode_style(fake), s_s, s_t, self.cfg.margin)     # C Eq. 4: k⁺ = E_s(M^S), k⁻ = E_s(M^T)
         out = {"rec": rec, "nce": nce, "tri": tri, "fake": fake}
         if source_view is not None:
-            out["views"] = recording_nce(s_s, self.encode_style(source_view), self.cfg.style_tau)
+            out["views"] = recording_nce(s_s, self.encode_style(source_view), self.cfg.style_tau)  # L_views
         return out
 
     def training_step(self, batch: dict) -> dict:
@@ -394,8 +326,7 @@ class ContrastiveModel(nn.Module):
         fake = out.pop("fake")
         if self.cfg.alpha > 0:  # the discriminator's step, on detached M^G (its own optimiser)
             opt = self.d_optimizer()
-            real = source if self.cfg.disc_real == "source" else torch.cat([source, target])  # (B or 2B, T, D)
-            d_loss, _ = adversarial_losses(self.discriminator(real), self.discriminator(fake.detach()))
+            d_loss, _ = adversarial_losses(self.discriminator(source), self.discriminator(fake.detach()))  # C Eq. 2, D
             opt.zero_grad(set_to_none=True)
             d_loss.backward()
             opt.step()
@@ -406,7 +337,7 @@ class ContrastiveModel(nn.Module):
         beta, gamma = (0.0, 0.0) if self.pretraining else (c.beta, c.gamma)
         loss = out["rec"] + c.alpha * g_adv + beta * out["nce"] + gamma * out["tri"]  # C Eq. 5
         if "views" in out:
-            loss = loss + c.style_views * out["views"]
+            loss = loss + c.style_views * out["views"]  # + δ·L_views while E_s trains
         return {"loss": loss, **{k: v.detach() for k, v in out.items()}, "adv": g_adv.detach(), "d": d_loss.detach()}
 
     def validation_step(self, batch: dict) -> dict:
@@ -426,11 +357,11 @@ class ContrastiveModel(nn.Module):
         self._check(c, "content")
         self._check(s, "style")
         c, s = self.normalize(c), self.normalize(s)
-        code, own = self.encode_style(s), None  # (1, l); `generate` finds the content's own code if it needs it
-        if w != 1.0:
+        code = self.encode_style(s)  # (1, l)
+        if w != 1.0:  # C Fig. 10–11's mix, the content's own code at w = 0
             own = self.encode_style(c)
             code = own + w * (code - own)
-        out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c, own))[0]
+        out = self.denormalize(self.generate(self.encode_content(c), code, c.shape[1], c))[0]  # (Tc, D)
         out = out.cpu().numpy().astype(np.float64)
         k = self.cfg.keep_root
         out[:, :k] = np.asarray(content, np.float64)[:, :k]

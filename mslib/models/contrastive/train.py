@@ -1,4 +1,5 @@
-"""Paper C's training recipe: the one loop on unlabelled (target, source) pairs, with the autoencoder phase first."""
+"""Paper C's training recipe: the one loop on unlabelled (target, source) pairs, C Eq. 5; with `pretrain_steps`
+(the course preset) an autoencoder phase first (C Eq. 1 + 2, and δ·L_views), after which E_s is frozen."""
 from __future__ import annotations
 
 import time
@@ -12,15 +13,16 @@ from ...training import fit, pretrain_then_freeze, run_summary
 from .data import PairedClips
 from .model import NAME, ContrastiveConfig, ContrastiveModel
 
+
 def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, device="cpu", resume=None,
           progress: bool = True, exclude_styles=(), val: bool = True, checkpoint_every: int = 0):
     """Build the model and data, run the one loop; returns (model, history). `checkpoint_every` > 0 also
     saves `out` every that many phase-2 steps, so `resume=out` continues a cut run."""
     torch.manual_seed(seed)
     views = cfg.style_views > 0
-    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views)
+    data = PairedClips(content, style, "train", cfg.crop, exclude_styles, views=views)
     model = ContrastiveModel(cfg, data.mean, data.std)
-    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, pairs=cfg.pairs, views=views) if val else None
+    val_set = PairedClips(content, style, "val", cfg.crop, exclude_styles, views=views) if val else None
     # 1: E_c, E_s, G (and D) as an autoencoder, C Eq. 1 + 2; 2: E_s frozen as C Eq. 4's judge, the rest on C Eq. 5
     tcfg = pretrain_then_freeze(model, data, replace(cfg.train_config(seed), checkpoint_every=checkpoint_every),
                                 cfg.pretrain_steps, [model.style_encoder],
@@ -29,8 +31,6 @@ def train(cfg: ContrastiveConfig, content, style, seed: int = 0, out=None, devic
     history = fit(model, data, tcfg, val_set=val_set, model_name=NAME, out=out,
                   resume=resume, device=device, progress=progress, parameters=model.generator_parameters())
     return model, history
-
-
 
 
 def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True):

@@ -8,20 +8,18 @@ from ...checkpoints import course_path, load_state, read_checkpoint
 from ...motion.features import decode
 from .model import NAME, ContrastiveConfig, ContrastiveModel
 
+
 def load(path=None, device="cpu") -> ContrastiveModel:
     """The model stored in a checkpoint (default: the packaged course one), in eval mode."""
     path = course_path(NAME) if path is None else path
     blob = read_checkpoint(path, NAME)
-    config = {"pairs": "across", **blob["config"]}  # checkpoints older than `pairs` were trained across the corpora
-    model = ContrastiveModel(ContrastiveConfig(**config))
+    model = ContrastiveModel(ContrastiveConfig.from_dict(blob["config"], what=f"checkpoint {path}"))
     load_state(path, model, NAME)
     return model.to(device).eval()
 
 
-
-
 def contrastive_method(device="cpu"):
-    """transfer(content, style) → stylized features with the course checkpoint."""
+    """transfer(content, style) → stylized (T, N_FEATURES) features with the course checkpoint."""
     model = load(device=device)
 
     def transfer(content, style):
@@ -33,7 +31,7 @@ def contrastive_method(device="cpu"):
 @torch.no_grad()
 def interpolate_styles(model: ContrastiveModel, content: np.ndarray, style_a: np.ndarray, style_b: np.ndarray,
                        weights=(0.0, 0.3, 0.6, 1.0)) -> list:
-    """C Fig. 10–11: decode one content with (1 − w)·E_s(a) + w·E_s(b) → list of (T, 22, 3) positions."""
+    """C Fig. 10–11: decode one content with (1 − w)·E_s(a) + w·E_s(b) → list of (T, N_JOINTS, 3) positions."""
     dev = model.mean.device
     t = lambda a: model.normalize(torch.as_tensor(np.asarray(a), dtype=torch.float32, device=dev))[None]  # noqa: E731
     c = t(content)

@@ -1,0 +1,30 @@
+"""Every registered method, quickly: it runs on a few fixed test pairs, returns finite 263-d features, and
+beats the identity row on H there. The 200-pair bars of each method are benchmarks (`make bench`)."""
+import numpy as np
+import pytest
+
+from mslib.evaluation import bench
+from mslib.models.registry import known_methods
+from mslib.motion.features import N_FEATURES
+
+N_PAIRS = 8  # the first pairs of the default draw; each method's H led identity's by ≥ 0.45 here when written
+METHODS = [m for m in known_methods() if m not in ("identity", "copy_style")]
+
+
+@pytest.fixture(scope="module")
+def scored():
+    """The pairs, one shared evaluator, and identity's row on those pairs."""
+    pairs, ev = bench.load_pairs(0, N_PAIRS), bench.Evaluator()
+    return pairs, ev, bench.run_bench("identity", pairs=pairs, evaluator=ev)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_method_returns_features_and_beats_identity_on_a_few_pairs(method, scored):
+    pairs, ev, identity = scored
+    transfer = bench.get_method(method)
+    for content, style in pairs[:2]:
+        out = np.asarray(transfer(content, style))
+        assert out.shape == (len(content["joints"]) - 1, N_FEATURES) and np.isfinite(out).all()
+    row = bench.run_bench(method, pairs=pairs, evaluator=ev)
+    assert row["pairs"] == N_PAIRS and np.isfinite(row["h"])
+    assert row["h"] > identity["h"], f"{method}: H {row['h']:.3f} not above identity's {identity['h']:.3f}"
