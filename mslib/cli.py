@@ -66,6 +66,16 @@ def _data_build(args) -> int:
     return _report(summary, args.json, width=20)
 
 
+def _data_realism(args) -> int:
+    from .evaluation.realism import format_report, run
+    report = run(args.real, args.grid, out=args.out, plot=args.plot, force=args.force, progress=not args.json)
+    if args.json:
+        _print_json(report)
+    else:
+        print(format_report(report))
+    return 0
+
+
 # ---------------------------------------------------------------- train
 def _corpus_dirs(args) -> tuple:
     """The --content/--style folders, or the built-in corpora (built and cached on first use)."""
@@ -165,7 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
     bi.add_argument("--json", action="store_true")
     bi.set_defaults(run=_bvh_info)
 
-    d = sub.add_parser("data", help="the built-in stylized mocap corpora")
+    d = sub.add_parser("data", help="the built-in stylized mocap corpora, and how real they are")
     dsub = d.add_subparsers(dest="data_command", required=True)
     db = dsub.add_parser("build", help="build (or reuse the cached) content and style corpora")
     db.add_argument("--seed", type=int, default=0)
@@ -173,6 +183,14 @@ def build_parser() -> argparse.ArgumentParser:
     db.add_argument("--force", action="store_true", help="rebuild even if a cached build exists")
     db.add_argument("--json", action="store_true")
     db.set_defaults(run=_data_build)
+    dr = dsub.add_parser("realism", help="cues and cross scores of real mocap against the built-in styles")
+    dr.add_argument("--real", required=True, metavar="DIR", help="a dataset folder made by data_prep (training data)")
+    dr.add_argument("--grid", default=None, metavar="DIR", help="held-out real test folder (default: --real's test split)")
+    dr.add_argument("--out", default=None, metavar="JSON", help="store the report (e.g. notebooks/data/00_realism.json)")
+    dr.add_argument("--plot", default=None, metavar="PNG", help="draw the cues and scores")
+    dr.add_argument("--force", action="store_true", help="overwrite --out/--plot if they exist")
+    dr.add_argument("--json", action="store_true")
+    dr.set_defaults(run=_data_realism)
 
     t = sub.add_parser("train", help="train a model with the one training loop (torchrun for DDP)")
     t.add_argument("model", metavar="MODEL", help="e.g. evaluator_content, evaluator_style")
