@@ -1,21 +1,28 @@
-"""MCM-LDM: AdaLN-Zero blocks, condition routing (B Eq. 7–8), StyleRemover, CFG sampling, ablation
-switches, a tiny training run, the packaged transfer."""
+"""MCM-LDM: the config, AdaLN-Zero blocks, condition routing (B Eq. 7–8), StyleRemover, CFG sampling (one
+batched call = the two-call form), ablation switches, a tiny training run, the packaged transfer."""
 import numpy as np
 import pytest
 import torch
 
+from mslib.checkpoints import course_path
 from mslib.data.corpora import load_builtin
 from mslib.models import mcm_ldm as M
-from mslib.models.common.diffusion import ddim_sample
+from mslib.models.common.diffusion import cfg_combine, ddim_sample
+
+TINY = dict(width=32, heads=2, blocks=2, mlp_ratio=2, traj_layers=1, traj_down=4, steps=40, batch_size=8, lr=3e-3)
+STYLE_CFG = {"dim": 16, "out_dim": 6, "heads": 2, "layers": 1}
 
 
 def tiny(**kw):
-    cfg = M.MCMConfig(width=32, heads=2, blocks=2, mlp_ratio=2, traj_layers=1, traj_down=4, steps=40,
-                      batch_size=8, lr=3e-3)
-    for k, v in kw.items():
-        setattr(cfg, k, v)
-    return M.MCMLDM(cfg, latent_tokens=3, latent_dim=8, style_dim=6,
-                    style_cfg={"dim": 16, "out_dim": 6, "heads": 2, "layers": 1})
+    return M.MCMLDM(M.MCMConfig(**{**TINY, **kw}), latent_tokens=3, latent_dim=8, style_dim=6, style_cfg=STYLE_CFG)
+
+
+def awake(model, seed=0):
+    """Random weights everywhere (the zero-initialised gates too), so that every condition matters."""
+    torch.manual_seed(seed)
+    for p in model.parameters():
+        torch.nn.init.normal_(p, std=0.1)
+    return model.eval()
 
 
 def conds(model, B=2, T=20, seed=0):
@@ -25,24 +32,73 @@ def conds(model, B=2, T=20, seed=0):
     return model.conditions(zc, style, traj, torch.ones(B, T, dtype=torch.bool))
 
 
+def test_config_presets_and_stored_configs():
+    assert M.MCMConfig() == M.MCMConfig.preset("paper")  # the defaults are B's (as released)
+    paper, course = M.MCMConfig(), M.MCMConfig.preset("course")
+    assert (paper.width, paper.blocks, paper.mlp_ratio, paper.traj_layers, paper.lr) == (256, 9, 4, 2, 1e-4)
+    assert (paper.p_drop_style, paper.cfg_scale, paper.ddim_steps) == (0.25, 2.5, 50)  # B §3.3, Eq. 5
+    assert course == M.MCMConfig(width=96, heads=4, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, patch=0,
+                                 steps=6000, batch_size=64, lr=1e-3)
+    assert M.MCMConfig.preset("course", use_traj=False).use_traj is False  # a B Table 2 switch on top
+    with pytest.raises(ValueError, match="widht"):
+        M.MCMConfig.preset("course", widht=8)
+    with pytest.raises(ValueError, match="preset"):
+        M.MCMConfig.preset("big")
+    # a model's stored config (sizes beside the fields, patch resolved) rebuilds the same model
+    m = tiny(patch=0)
+    again = M.MCMLDM.from_config(m.config)
+    assert again.cfg == M.MCMConfig(**{**TINY, "patch": 1}) and again.config == m.config
+    assert set(again.state_dict()) == set(m.state_dict())
+    with pytest.raises(ValueError, match="style_cfg"):
+        M.MCMLDM.from_config({k: v for k, v in m.config.items() if k != "style_cfg"})
+    # a retired research option loads when it holds the value the library always uses, else is refused
+    for key, kept in M.MCMConfig.RETIRED.items():
+        assert M.MCMLDM.from_config({**m.config, key: kept}).cfg == again.cfg
+    for key, other in {"remover_norm": "token", "content_bottleneck": 8, "content_noise": 0.1, "traj_frames": 12}.items():
+        with pytest.raises(ValueError, match=key):
+            M.MCMLDM.from_config({**m.config, key: other})
+    # the packaged checkpoint's stored config: the course preset with patch resolved, the retired keys at their values
+    stored = torch.load(course_path(M.NAME), weights_only=True)["config"]
+    assert {k: stored[k] for k in M.MCMConfig.RETIRED if k in stored} == \
+        {k: v for k, v in M.MCMConfig.RETIRED.items() if k in stored}
+    assert M.MCMConfig.from_dict(stored) == M.MCMConfig.preset("course", patch=stored["patch"])
+
+
 def test_adaln_zero_block_starts_as_identity():
     blk = M.Block(16, 2, 2)
-    h, c1, c2 = torch.randn(2, 5, 16), torch.randn(2, 16), torch.randn(2, 16)
-    assert torch.allclose(blk(h, c1, c2), h)
+    h, zero = torch.randn(2, 5, 16), torch.zeros(2, 1, 3, 16)
+    assert torch.equal(blk(h, zero, zero), h)  # gates α = 0: both branches closed
+    m = tiny()  # and the zero-initialised MLP_s, MLP_t give zero modulations whatever the conditions
+    mod_style, mod_traj = m.modulations(torch.randn(2, 32), torch.randn(2, 32))
+    assert mod_style.shape == mod_traj.shape == (2, 1, 2, 3, 32) and not mod_style.any() and not mod_traj.any()
+
+
+def test_modulations_are_each_blocks_own_mlps():
+    m = awake(tiny(blocks=3))
+    c_style, c_traj = torch.randn(2, 32), torch.randn(2, 32)
+    mod_style, mod_traj = m.modulations(c_style, c_traj)  # B Eq. 7, block by block
+    for k, blk in enumerate(m.blocks):
+        assert torch.equal(mod_style[:, 0, k].reshape(2, -1), blk.ada_attn(c_style))
+        assert torch.equal(mod_traj[:, 0, k].reshape(2, -1), blk.ada_mlp(c_traj))
+    stacked = m.modulations(c_style, c_traj, m.ada_weights())  # the sampler's form: one product per condition
+    assert all(torch.allclose(a, b, atol=1e-6) for a, b in zip(stacked, (mod_style, mod_traj)))
 
 
 def test_style_on_attention_branch_trajectory_on_mlp_branch():
     torch.manual_seed(0)
-    blk = M.Block(16, 2, 2)
-    h, c = torch.randn(2, 5, 16), torch.randn(2, 16)
-    torch.nn.init.normal_(blk.ada_mlp[1].weight)  # only the MLP branch is live
-    assert torch.allclose(blk(h, torch.randn(2, 16), c), blk(h, torch.randn(2, 16), c))  # style unused
-    assert not torch.allclose(blk(h, c, torch.randn(2, 16)), blk(h, c, torch.randn(2, 16)))
-    torch.nn.init.zeros_(blk.ada_mlp[1].weight)
-    torch.nn.init.zeros_(blk.ada_mlp[1].bias)
-    torch.nn.init.normal_(blk.ada_attn[1].weight)  # only the attention branch is live
-    assert torch.allclose(blk(h, c, torch.randn(2, 16)), blk(h, c, torch.randn(2, 16)))  # trajectory unused
-    assert not torch.allclose(blk(h, torch.randn(2, 16), c), blk(h, torch.randn(2, 16), c))
+    blk = M.Block(16, 2, 2).eval()
+    h, zero = torch.randn(2, 5, 16), torch.zeros(2, 1, 3, 16)
+    a, b = torch.randn(2, 1, 3, 16), torch.randn(2, 1, 3, 16)
+    with torch.no_grad():  # the inference attention path, as the sampler runs it
+        assert torch.equal(blk(h, zero, a), blk(h, zero, a))
+        assert not torch.allclose(blk(h, a, zero), blk(h, b, zero))  # the style moves the attention branch
+        assert not torch.allclose(blk(h, zero, a), blk(h, zero, b))  # the trajectory moves the MLP branch
+        x = torch.nn.functional.layer_norm(h, (16,), eps=1e-6) * (1 + a[:, :, 1]) + a[:, :, 0]
+        attn = blk.attn(x, x, x, need_weights=False)[0]  # the module's own call
+        assert torch.allclose(blk(h, a, zero), h + a[:, :, 2] * attn, atol=1e-6)  # B Eq. 8, first line
+        inference = blk(h, a, b)
+    with torch.enable_grad():  # the training path (the module's attention) gives the same numbers
+        assert torch.allclose(blk(h, a, b).detach(), inference, atol=1e-6)
 
 
 def test_style_remover_drops_a_token_and_removes_statistics_across_tokens():
@@ -53,11 +109,8 @@ def test_style_remover_drops_a_token_and_removes_statistics_across_tokens():
     assert out.shape == (2, 3, 16)
     scale, shift = torch.rand(2, 1, 8) + 0.5, torch.randn(2, 1, 8)
     assert torch.allclose(rem(z * scale + shift), out, atol=1e-4)  # per-channel statistics are gone
-    tok = M.StyleRemover(4, 8, 16, 2, 1, norm="token").eval()
-    scale, shift = torch.rand(2, 4, 1) + 0.5, torch.randn(2, 4, 1)
-    assert torch.allclose(tok(z * scale + shift), tok(z), atol=1e-4)  # per-token statistics are gone
-    with pytest.raises(ValueError, match="norm"):
-        M.StyleRemover(4, 8, 16, 2, 1, norm="time")
+    with pytest.raises(ValueError, match="patch"):
+        M.StyleRemover(4, 8, 16, 2, 1, patch=3)
 
 
 def test_denoiser_shapes_and_ablation_switches():
@@ -72,8 +125,6 @@ def test_denoiser_shapes_and_ablation_switches():
     assert no_traj.traj is None and float(conds(no_traj)["traj"].abs().sum()) == 0.0
     scratch = tiny(pretrained_style=False)
     assert scratch.style_net is not None and tiny().style_net is None
-    with pytest.raises(ValueError, match="preset"):
-        M.MCMConfig.preset("big")
 
 
 def test_patches_group_consecutive_latent_tokens():
@@ -92,37 +143,8 @@ def test_patches_group_consecutive_latent_tokens():
         M.MCMLDM(M.MCMConfig(width=32, heads=2, blocks=1, patch=4), latent_tokens=6, latent_dim=8, style_dim=6)
 
 
-def test_per_token_trajectory_condition_follows_the_denoiser_tokens():
-    torch.manual_seed(0)
-    m = tiny(traj_frames=12)  # 3 denoiser tokens, 4 frames each
-    for p in m.parameters():  # wake the zero-initialised gates
-        torch.nn.init.normal_(p, std=0.1)
-    m.eval()
-    g = torch.Generator().manual_seed(0)
-    zc, style, traj = torch.randn(1, 3, 8, generator=g), torch.randn(1, 6, generator=g), torch.randn(1, 10, 3, generator=g)
-    mask = torch.ones(1, 10, dtype=torch.bool)
-    cond = m.conditions(zc, style, traj, mask)
-    assert cond["traj"].shape == (1, 3, 32)  # one trajectory condition per denoiser token
-    z, t = torch.randn(1, 3, 8), torch.tensor([400])
-    assert m.denoise(z, t, cond).shape == (1, 3, 8)
-    shuffled = m.conditions(zc, style, traj.flip(1), mask)  # the same frames in another order
-    assert not torch.allclose(m.denoise(z, t, shuffled), m.denoise(z, t, cond), atol=1e-4)
-    masked = mask.clone()
-    masked[:, 8:] = False  # frames past the clip's length are padding, whatever they hold
-    other = traj.clone()
-    other[:, 8:] += 5.0
-    assert torch.allclose(m.conditions(zc, style, traj, masked)["traj"], m.conditions(zc, style, other, masked)["traj"])
-    with pytest.raises(ValueError, match="latent spans"):
-        m.conditions(zc, style, torch.randn(1, 13, 3), torch.ones(1, 13, dtype=torch.bool))
-    with pytest.raises(ValueError, match="traj_frames"):
-        tiny(traj_frames=10)  # 10 frames do not split into 3 tokens
-
-
 def test_cfg_sample_scale_one_is_the_conditional_model():
-    torch.manual_seed(0)
-    m = tiny()
-    for p in m.parameters():  # wake the zero-initialised gates so conditions matter
-        torch.nn.init.normal_(p, std=0.1)
+    m = awake(tiny())
     cond = conds(m, B=1)
     null = m.style_proj(torch.zeros(1, 6))
     a = m.sample(cond, null, (1, 3, 8), scale=1.0, steps=10, generator=torch.Generator().manual_seed(1))
@@ -131,6 +153,29 @@ def test_cfg_sample_scale_one_is_the_conditional_model():
     assert torch.allclose(a, b, atol=1e-5)
     c = m.sample(cond, null, (1, 3, 8), scale=2.5, steps=10, generator=torch.Generator().manual_seed(1))
     assert not torch.allclose(a, c)
+
+
+@pytest.mark.parametrize("patch", [1, 3])
+def test_batched_cfg_sampler_equals_the_two_call_form(patch):
+    """B Eq. 5 as written — one denoiser call with the style, one with ∅, per step — against the sampler's one
+    batched call on both (and its stacked MLP weights): the same latents up to float rounding."""
+    m = M.MCMLDM(M.MCMConfig(**{**TINY, "patch": patch}), latent_tokens=6, latent_dim=8, style_dim=6)
+    awake(m, seed=patch)
+    g = torch.Generator().manual_seed(0)
+    zc, style, traj = torch.randn(2, 6, 8, generator=g), torch.randn(2, 6, generator=g), torch.randn(2, 20, 3, generator=g)
+    with torch.no_grad():
+        cond = m.conditions(zc, style, traj, torch.ones(2, 20, dtype=torch.bool))
+        null = m.style_proj(torch.zeros(1, 6))
+        uncond = {**cond, "style": null.expand(2, -1)}
+        for scale in (0.0, 2.5):
+            def two_calls(x, t):
+                return cfg_combine(m.denoise(x, t, uncond), m.denoise(x, t, cond), scale)
+            want = ddim_sample(two_calls, (2, 6, 8), m.sched, n_steps=12, generator=torch.Generator().manual_seed(3))
+            got = m.sample(cond, null, (2, 6, 8), scale=scale, steps=12, generator=torch.Generator().manual_seed(3))
+            assert got.shape == want.shape and torch.allclose(got, want, atol=1e-5, rtol=1e-5)
+            assert got.abs().max() > 0.1  # a real answer, not a trivially small one
+        other = m.sample(cond, null * 0 + 1, (2, 6, 8), steps=12, generator=torch.Generator().manual_seed(3))
+        assert not torch.allclose(other, got, atol=1e-3)  # the null style is the second branch's
 
 
 def test_training_reduces_loss_and_dropped_style_gets_no_gradient():
@@ -173,6 +218,7 @@ def test_packaged_transfer_is_deterministic_and_follows_the_style():
         tr(c[:, :10], s1)
 
 
+@pytest.mark.bench
 def test_bench_mcm_ldm_meets_its_bars_on_the_first_pairs():
     """Issue bars, on the first 40 pairs of the default draw (the note reports all 200): H ≥ 0.60 and above
     both reference rows; FSF below adain's (B's trajectory claim)."""

@@ -6,7 +6,9 @@ packaged model, scored by the independent evaluator on benchmark pairs; writes n
 The JSON records the packaged VAE's latent (arch, tokens, width); rows measured through another VAE are stale.
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
 (use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
-λ ∈ {0, 1, 2.5, 5}. Rows already in the JSON are kept unless re-run.
+λ ∈ {0, 1, 2.5, 5}. Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
+one name the commit that stored them.
 """
 from __future__ import annotations
 
@@ -16,14 +18,15 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, current_commit, score_outputs, update_json  # noqa: E402
 
 VARIANTS = {"full": {}, "no_remover": {"use_remover": False}, "no_traj": {"use_traj": False},
             "scratch_style": {"pretrained_style": False}}
 LABELS = {"full": "full (short run)", "no_remover": "w/o StyleRemover", "no_traj": "w/o trajectory",
           "scratch_style": "style extractor from scratch"}
-OUT = ROOT / "notebooks" / "data" / "04_ablations.json"
+OUT = DATA_DIR / "04_ablations.json"
+METRICS = ("cra", "sra", "h", "tsi", "fsf", "fmd")
 
 
 def main(argv=None) -> int:
@@ -33,12 +36,11 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep")
     ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")
     args = ap.parse_args(argv)
-    import numpy as np
-    from mslib.data.corpora import load_builtin
-    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
     from mslib.checkpoints import checkpoint_digest
+    from mslib.data.corpora import load_builtin
+    from mslib.evaluation.bench import Evaluator, load_pairs, positions
     from mslib.models import mcm_ldm as P
-    from mslib.motion.features import decode
+    from mslib.models.common.vae import load_vae
 
     paths = load_builtin(progress=False)
     pairs = load_pairs(seed=0, n_pairs=args.pairs)
@@ -47,12 +49,12 @@ def main(argv=None) -> int:
     todo = args.only.split(",")
     prepared = None
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
-    command = "python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:])
+    command = ("python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:])).strip()
+    commit = current_commit()
 
     def score(tr, scale=None):
-        outs = [decode(tr(c["features"], s["features"], scale=scale)) for c, s in pairs]
-        r = evaluate(outs, pairs, ev)
-        return {k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "tsi", "fsf", "fmd")}
+        r = score_outputs([positions(tr(c["features"], s["features"], scale=scale)) for c, s in pairs], pairs, ev)
+        return {k: round(r[k], 4) for k in METRICS}
 
     for key in (k for k in VARIANTS if k in todo):
         if prepared is None:
@@ -64,27 +66,23 @@ def main(argv=None) -> int:
         tr = P.load_mcm_ldm(out)
         rows[key] = {"key": key, "variant": LABELS[key], **score(tr), "steps": summary["steps"],
                      "train_seconds": summary["seconds"], "wall_seconds": round(time.time() - t0, 1),
-                     "command": command.strip()}
+                     "command": command, "commit": commit}
         print(json.dumps(rows[key]), flush=True)
     if "sweep" in todo:
         tr = P.load_mcm_ldm()
         for lam in (0.0, 1.0, 2.5, 5.0):
             key = f"lambda_{lam}"
             rows[key] = {"key": key, "variant": f"course model, λ = {lam}", **score(tr, lam),
-                         "command": command.strip(), "checkpoint": checkpoint_digest("mcm_ldm")}
+                         "command": command, "commit": commit, "checkpoint": checkpoint_digest("mcm_ldm")}
             print(json.dumps(rows[key]), flush=True)
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
     order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]
-    from mslib.models.common.vae import load_vae
     vcfg = load_vae().cfg  # the VAE every row was measured through (the notebook checks it still matches)
-    data = {"pairs": args.pairs, "seed": 0, "steps": args.steps,
-            "vae": {"arch": getattr(vcfg, "arch", "transformer"), "latent_tokens": vcfg.latent_tokens,
-                    "latent_dim": vcfg.latent_dim},
-            "command": command.strip(),
-            "rows": [rows[k] for k in order if k in rows]}
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    update_json(OUT, {"command": command, "commit": commit, "pairs": args.pairs,
+                      "rows": [dict(sorted(rows[k].items())) for k in order if k in rows], "seed": 0,
+                      "steps": args.steps,
+                      "vae": {"arch": vcfg.arch, "latent_dim": vcfg.latent_dim, "latent_tokens": vcfg.latent_tokens}})
     return 0
 
 

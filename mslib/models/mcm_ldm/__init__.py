@@ -1,12 +1,13 @@
 """Paper B: MCM-LDM, motion latent diffusion with content, trajectory and style conditions.
 
-    model.py     the denoiser: content concatenated, style and trajectory by AdaLN-Zero, the StyleRemover
+    model.py     the config, the denoiser (content concatenated, style and trajectory by AdaLN-Zero), the
+                 StyleRemover, the trajectory encoder, the training step and the DDIM sampler with CFG
     train.py     the training recipe on frozen VAE latents and style embeddings
-    transfer.py  DDIM with classifier-free guidance, the packaged model at inference
+    transfer.py  the packaged model at inference: clip → conditions → DDIM with CFG → VAE decoder
 B's style extractor and the motion VAE are shared blocks (`mslib.models.common`).
 """
 from ..common import style_extractor as _style_extractor
-from .model import MCMLDM, NAME, STYLE_WINDOW, TRAJ, Block, MCMConfig, StyleRemover, TrajectoryEncoder, auto_patch, patchify
+from .model import MCMLDM, NAME, STYLE_WINDOW, Block, MCMConfig, StyleRemover, TrajectoryEncoder, auto_patch, patchify
 from .train import TensorSet, build_tensors, prepare, run, train_mcm
 from .transfer import Transfer, load_mcm_ldm, mcm_ldm_method
 

@@ -1,4 +1,8 @@
-"""Paper B's training recipe: tensors from the frozen VAE and style extractor (computed once), then the denoiser."""
+"""Paper B's training recipe (B §3.3): self-reconstruction. The VAE and the style extractor are frozen, so
+every clip's latent z_0, content latent, style embedding and trajectory are computed once (`build_tensors`);
+the denoiser then trains on B Eq. 4 with the style dropped to ∅ at random (`MCMLDM.training_step`).
+Departure: besides each clip, `views − 1` random crops of it (at least `MIN_VIEW` frames) add
+training examples drawn from the small built-in corpora."""
 from __future__ import annotations
 
 from dataclasses import asdict
@@ -9,10 +13,13 @@ from torch.utils.data import Dataset
 
 from ...checkpoints import course_path
 from ...data.datasets import ContentClips, StyleClips
+from ...motion.features import TRAJECTORY_DIMS
 from ...training import TrainConfig, fit, run_summary
 from ..common import style_extractor as SE
-from .model import MCMLDM, NAME, STYLE_WINDOW, TRAJ, MCMConfig
 from ..common.vae import MotionVAE, load_vae, pad_batch
+from .model import MCMLDM, NAME, STYLE_WINDOW, MCMConfig
+
+MIN_VIEW = 32  # frames of the shortest random crop (a further view of a clip)
 
 
 # ---------------------------------------------------------------- training tensors
@@ -29,8 +36,9 @@ def build_tensors(vae: MotionVAE, extractor, content, style, split: str, views: 
                   windows: bool = False, batch_size: int = 64, limit: int | None = None) -> dict:
     """Every clip of a split (content + style corpora) as fixed tensors: "z0" target latent (M, N, d),
     "zc" content latent of the features with the trajectory dims zeroed, "style" frozen style embedding of
-    the centre 32 frames (M, S), "traj" (M, max_len, 3), "length" (M,); view 0 = the clip, further views =
-    random crops. `windows=True` also keeps "style_window" (M, 32, 263) for the from-scratch ablation;
+    the centre STYLE_WINDOW frames (M, S), "traj" (M, max_len, 3), "length" (M,); view 0 = the clip, further
+    views = random crops. `windows=True` also keeps "style_window" (M, STYLE_WINDOW, N_FEATURES) for the
+    from-scratch ablation;
     `limit`: at most that many clips of each corpus (evenly spaced), for quick runs."""
     raws = []
     for ds in (ContentClips(content, split, normalize=False), StyleClips(style, split, normalize=False, joints=False)):
@@ -42,8 +50,8 @@ def build_tensors(vae: MotionVAE, extractor, content, style, split: str, views: 
     for v in range(views):
         for r in raws:
             x = vae.normalize(r)[:L]
-            if v > 0 and len(x) > 32:
-                n = int(torch.randint(32, len(x) + 1, (), generator=g))
+            if v > 0 and len(x) > MIN_VIEW:
+                n = int(torch.randint(MIN_VIEW, len(x) + 1, (), generator=g))
                 s = int(torch.randint(0, len(x) - n + 1, (), generator=g))
                 x = x[s:s + n]
             clips.append(x)
@@ -54,13 +62,13 @@ def build_tensors(vae: MotionVAE, extractor, content, style, split: str, views: 
         x, mask = pad_batch(part)
         x, mask = x.to(dev), mask.to(dev)
         xc = x.clone()
-        xc[..., TRAJ] = 0.0  # FIELD_FACTS: the content condition sees no trajectory
+        xc[..., TRAJECTORY_DIMS] = 0.0  # the content condition sees no trajectory (as released)
         win = torch.stack([_window(c, STYLE_WINDOW) for c in part]).to(dev)
         out["z0"].append(vae.encode(x, mask).cpu())
         out["zc"].append(vae.encode(xc, mask).cpu())
         out["style"].append(extractor(win).cpu() if extractor is not None else torch.zeros(len(part), 1))
         tr = torch.zeros(len(part), L, 3)
-        tr[:, :x.shape[1]] = x[..., TRAJ].cpu() * mask[..., None].cpu()
+        tr[:, :x.shape[1]] = x[..., TRAJECTORY_DIMS].cpu() * mask[..., None].cpu()
         out["traj"].append(tr)
         out["length"].append(mask.sum(1).cpu())
         if windows:
@@ -108,14 +116,10 @@ def prepare(content, style, device="cpu", windows: bool = False, views: int = 2,
 
 def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resume=None, progress=True,
         overrides: dict | None = None, prepared: tuple | None = None) -> dict:
-    """Train MCM-LDM on the frozen VAE latents and style embeddings; `overrides` sets config switches."""
-    cfg = MCMConfig.preset(preset)
-    for k, v in (overrides or {}).items():
-        if not hasattr(cfg, k):
-            raise ValueError(f"overrides: unknown MCMConfig field {k!r}")
-        setattr(cfg, k, v)
-    if steps:
-        cfg.steps = int(steps)
+    """Train MCM-LDM on the frozen VAE latents and style embeddings; `overrides`: MCMConfig fields on top of
+    the preset (e.g. a B Table 2 switch)."""
+    fields = {**(overrides or {}), **({"steps": int(steps)} if steps else {})}
+    cfg = MCMConfig.preset(preset, **fields)  # an unknown field is a ValueError naming it
     out = course_path(NAME) if out is None else out
     vae, extractor, style_cfg, train = prepared or prepare(content, style, device, windows=not cfg.pretrained_style)
     model, history = train_mcm(cfg, train, None, vae, style_cfg, seed, out, device, resume, progress)

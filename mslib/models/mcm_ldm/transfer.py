@@ -1,15 +1,21 @@
-"""Paper B at inference: DDIM with classifier-free guidance from the content's conditions, the packaged model, the benchmark's method."""
+"""Paper B at inference (B §3.3): the content clip gives f_c and f_t, the style clip f_s; DDIM with
+classifier-free guidance (B Eq. 5) from noise; the VAE decodes. The packaged model and the benchmark's method.
+
+Clips longer than the VAE's `max_len` rows are transferred in independent chunks of `max_len` rows (the
+VAE encodes at most that many); every chunk starts from the same seeded noise.
+"""
 from __future__ import annotations
 
 import numpy as np
 import torch
 
 from ...checkpoints import course_path, load_state, read_checkpoint
+from ...motion.features import N_FEATURES, TRAJECTORY_DIMS
 from ..common import style_extractor as SE
 from ..common.vae import MotionVAE, load_vae
-from .model import MCMLDM, NAME, TRAJ, MCMConfig
+from .model import MCMLDM, NAME
 
-# ---------------------------------------------------------------- transfer
+
 class Transfer:
     """Content + style raw features → stylised raw features, by DDIM with CFG from the content's conditions."""
 
@@ -21,7 +27,7 @@ class Transfer:
 
     @torch.no_grad()
     def style_embedding(self, style_raw) -> torch.Tensor:
-        """(1, S) style embedding of a raw style clip (pre-trained extractor, or the model's own in the ablation)."""
+        """(1, S) style embedding f_s of a raw style clip (pre-trained extractor, or the model's own in the ablation)."""
         s = self._norm(style_raw)[None, : self.vae.cfg.max_len]
         enc = self.model.style_net if self.model.style_net is not None else self.extractor
         return enc(s)
@@ -29,24 +35,24 @@ class Transfer:
     @torch.no_grad()
     def conditions(self, content_raw, style_raw) -> tuple:
         """(cond dict, null style, length) for one content clip of ≤ max_len rows."""
-        x = self._norm(content_raw)[None]  # (1, T, 263)
+        x = self._norm(content_raw)[None]  # (1, T, N_FEATURES)
         xc = x.clone()
-        xc[..., TRAJ] = 0.0
-        zc = self.vae.encode(xc)
+        xc[..., TRAJECTORY_DIMS] = 0.0  # the content condition sees no trajectory
+        zc = self.vae.encode(xc)  # (1, N, d)
         mask = torch.ones(1, x.shape[1], dtype=torch.bool, device=self.device)
         style = self.style_embedding(style_raw)
-        cond = self.model.conditions(zc, style, x[..., TRAJ], mask)
-        null = self.model.style_proj(torch.zeros_like(style))  # the projected null style
+        cond = self.model.conditions(zc, style, x[..., TRAJECTORY_DIMS], mask)  # B Eq. 1
+        null = self.model.style_proj(torch.zeros_like(style))  # the projected null style ∅
         return cond, null, x.shape[1]
 
-    @torch.no_grad()
+    @torch.inference_mode()
     def __call__(self, content_raw, style_raw, scale: float | None = None, steps: int | None = None,
                  seed: int = 0, copy_traj: bool = False, callback=None) -> np.ndarray:
-        """(T, 263) raw content, (S, 263) raw style → (T, 263) raw output; `copy_traj` pastes the content's
-        root velocities over the generated ones (the "copied trajectory" baseline)."""
+        """(T, N_FEATURES) raw content, (S, N_FEATURES) raw style → (T, N_FEATURES) raw output; `copy_traj`
+        pastes the content's root velocities over the generated ones (the "copied trajectory" baseline)."""
         content_raw = np.asarray(content_raw, np.float64)
-        if content_raw.ndim != 2 or content_raw.shape[1] != 263 or len(content_raw) < 2:
-            raise ValueError(f"content_raw: expected (T, 263) features with T ≥ 2, got {content_raw.shape}")
+        if content_raw.ndim != 2 or content_raw.shape[1] != N_FEATURES or len(content_raw) < 2:
+            raise ValueError(f"content_raw: expected (T, {N_FEATURES}) features with T ≥ 2, got {content_raw.shape}")
         L = self.vae.cfg.max_len
         pieces = []
         for start in range(0, len(content_raw), L):  # longer clips: independent chunks of max_len rows
@@ -56,7 +62,7 @@ class Transfer:
             z = self.model.sample(cond, null, (1, self.model.n, self.model.d), scale, steps, g, callback)
             out = self.vae.decode_raw(z, [T])[0]
             if copy_traj:
-                out[:, TRAJ] = chunk[:, TRAJ]
+                out[:, TRAJECTORY_DIMS] = chunk[:, TRAJECTORY_DIMS]
             pieces.append(out)
         return np.concatenate(pieces)
 
@@ -64,15 +70,11 @@ class Transfer:
 def load_mcm_ldm(path=None, device="cpu", vae_path=None, style_path=None) -> Transfer:
     """The transfer function of a checkpoint (default: the packaged course ones)."""
     path = course_path(NAME) if path is None else path
-    blob = read_checkpoint(path, NAME)
-    c = blob["config"]
-    model = MCMLDM(MCMConfig.from_dict(c), c["latent_tokens"], c["latent_dim"], c["style_dim"], c.get("style_cfg"))
+    model = MCMLDM.from_config(read_checkpoint(path, NAME)["config"])
     load_state(path, model, NAME)
     vae = load_vae(vae_path, device)
     extractor = SE.load_style_extractor(style_path, device) if model.style_net is None else None
     return Transfer(model.to(device), vae, extractor, device)
-
-
 
 
 def mcm_ldm_method(device="cpu"):
