@@ -216,11 +216,11 @@ def build_parser() -> argparse.ArgumentParser:
     be.add_argument("--markdown", action="store_true", help="print a Markdown table (the README's)")
     be.set_defaults(run=_bench)
 
-    tr = sub.add_parser("transfer", help="one content motion in one style, written as .bvh, .npy or .gif")
+    tr = sub.add_parser("transfer", help="one content motion in one style, written as .bvh, .npy, .gif or .html")
     tr.add_argument("--method", required=True)
     tr.add_argument("--content", required=True, metavar="X", help="built-in clip id, .npy (263-d or T×22×3) or .bvh")
     tr.add_argument("--style", required=True, metavar="Y", help="built-in clip id, .npy (263-d or T×22×3) or .bvh")
-    tr.add_argument("--out", required=True, metavar="OUT", help="OUT.bvh (metres), OUT.npy (263-d) or OUT.gif")
+    tr.add_argument("--out", required=True, metavar="OUT", help="OUT.bvh (metres), OUT.npy (263-d), OUT.gif or OUT.html (3-D viewer)")
     tr.add_argument("--force", action="store_true", help="overwrite OUT if it exists")
     tr.add_argument("--device", default="cpu")
     tr.add_argument("--json", action="store_true")

@@ -9,7 +9,9 @@ The output kind follows OUT's extension:
 - .bvh — the HumanML3D template tree with rotations solved from the positions (motion/ik.py),
   lengths in metres (Blender's BVH import at scale 1 gives a life-size armature), 20 fps;
 - .npy — the 263-d HumanML3D vector ((T−1)×263, float32);
-- .gif — a stick-figure animation (viz.animate, written with pillow).
+- .gif — a stick-figure animation (viz.animate, written with pillow);
+- .html — the 3-D viewer (viz.viewer_html) as one self-contained page: content, output and style side by
+  side, to orbit, zoom, play and scrub offline (no server, nothing from the network).
 Writes are atomic and refuse an existing OUT unless `force`.
 """
 from __future__ import annotations
@@ -27,7 +29,7 @@ from ..motion.bvh import write_bvh
 from ..motion.ik import fit_error, positions_to_bvh
 from .bench import get_method, positions
 
-OUTPUT_KINDS = (".bvh", ".npy", ".gif")
+OUTPUT_KINDS = (".bvh", ".npy", ".gif", ".html")
 FPS = 20.0
 GIF_MAX_FRAMES = 100  # longer outputs are subsampled in time
 GIF_DPI = 90
@@ -149,11 +151,25 @@ def save_gif(path, positions, fps: float = FPS, title: str | None = None) -> Pat
     return Path(path)
 
 
+def save_html(path, positions, title: str | None = None, inputs=()) -> Path:
+    """The 3-D viewer page of positions (T, 22, 3), with `inputs` ((title, positions) of the content and the
+    style) on either side of it, written atomically."""
+    from ..viz import viewer_html
+    shown = [(title or "output", positions)]
+    if len(inputs) == 2:
+        shown = [inputs[0], shown[0], inputs[1]]
+    page = viewer_html([m for _, m in shown], titles=[t for t, _ in shown], fps=FPS,
+                       page_title=" · ".join(t for t, _ in shown))
+    atomic_write_bytes(Path(path), page.encode("utf-8"))
+    return Path(path)
+
+
 def save_motion(out, positions, force: bool = False, arg: str = "--out", title: str | None = None,
-                features=None) -> dict:
+                features=None, inputs=()) -> dict:
     """Write positions (T, 22, 3) as .bvh, .npy (263-d: `features` when given, else encoded from the
-    positions) or .gif by OUT's extension; returns facts about the file (for .bvh the largest joint error
-    of its forward kinematics, in cm)."""
+    positions), .gif or .html (with `inputs`, the (title, positions) of content and style, beside it) by
+    OUT's extension; returns facts about the file (for .bvh the largest joint error of its forward
+    kinematics, in cm)."""
     out = check_output(out, force, arg)
     p = F.check_positions(positions, "the method's output")
     kind = out.suffix.lower()
@@ -166,6 +182,8 @@ def save_motion(out, positions, force: bool = False, arg: str = "--out", title: 
         vector = F.encode(p) if features is None else np.asarray(features, np.float32)
         atomic_save_npy(out, vector, force=True, arg=arg)
         info["shape"] = list(vector.shape)
+    elif kind == ".html":
+        save_html(out, p, title=title, inputs=inputs)
     else:
         save_gif(out, p, title=title)
     return info
@@ -184,7 +202,8 @@ def run_transfer(method: str, content, style, out, force: bool = False, device: 
     if features.ndim != 2 or features.shape[1] != F.N_FEATURES:
         raise ValueError(f"--method {method!r}: returned shape {features.shape}, expected (T−1, {F.N_FEATURES}) features")
     result = np.asarray(positions(features), np.float64)
-    info = save_motion(out, result, force, title=method, features=features)
+    inputs = ((f"content {c['clip_id']}", c["joints"]), (f"style {s['clip_id']}", s["joints"]))
+    info = save_motion(out, result, force, title=method, features=features, inputs=inputs)
     return {"method": method, "content": c["clip_id"], "style": s["clip_id"],
             "content_frames": int(len(c["joints"])), "style_frames": int(len(s["joints"])),
             "transfer_ms": round(1000 * seconds, 3), **info}

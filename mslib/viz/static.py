@@ -1,4 +1,4 @@
-"""Pictures and animations of motions: stick figures, strips, trajectories, animations, loss curves.
+"""Static pictures of motions (matplotlib): stick figures, strips, trajectories, animations, loss curves.
 
 Motions are arrays (T, J, 3) in metres, Y up, the character facing +Z with its left at +X.
 Views (each a real camera, never a mirror image):
@@ -22,7 +22,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
-from .motion.skeleton import JOINT_NAMES, KINEMATIC_CHAINS, PARENTS
+from ..motion.skeleton import JOINT_NAMES, KINEMATIC_CHAINS, PARENTS
 
 SIDE_COLOURS = {"left": "#1f77b4", "right": "#d62728", "centre": "#3a3a3a"}
 SIDE_LABELS = {"left": "left side", "right": "right side", "centre": "spine"}
