@@ -8,17 +8,14 @@ selenium is missing.
 """
 from __future__ import annotations
 
-import json
 import os
 import time
-from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
 
-from tests.test_browser_viewer import pixels, stop
-from tests.test_browser_widgets import (CHROMEDRIVER, CHROMIUM, _driver, _free_port, _run_all_cells, _start_lab,
-                                        _wait_http)
+from tests.test_browser_viewer import pixels
+from tests.test_browser_widgets import CHROMEDRIVER, CHROMIUM, notebook_in_lab
 
 pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER), reason="Debian's chromium and chromium-driver "
                                 "are not installed (apt-get install chromium chromium-driver; .ci/run does this)")
@@ -27,30 +24,6 @@ CELL = """\
 from mslib.explorers import explore_transfer
 explore_transfer("c00000", "old", "identity")"""
 BOX = ".jp-OutputArea .mslib-explorer-transfer"
-
-
-@contextmanager
-def notebook_in_lab(cells: list, workdir: Path, name: str = "explorer.ipynb", timeout: float = 180):
-    """A throwaway notebook of `cells` under `workdir`, opened in JupyterLab in headless Chromium with every cell
-    run; yields the driver. JupyterLab and the browser end with the block."""
-    from selenium.webdriver.support.ui import WebDriverWait
-    folder = workdir / "lab"
-    folder.mkdir()
-    nb = {"cells": [{"cell_type": "code", "execution_count": None, "id": f"c{i}", "metadata": {}, "outputs": [],
-                     "source": source} for i, source in enumerate(cells)],
-          "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
-          "nbformat": 4, "nbformat_minor": 5}
-    (folder / name).write_text(json.dumps(nb), encoding="utf-8")
-    port, token = _free_port(), "mslib-explorer-test"
-    lab = _start_lab(folder, port, token)
-    try:
-        _wait_http(f"http://127.0.0.1:{port}/api/status?token={token}", 90)
-        with _driver(workdir / "profile") as driver:
-            driver.get(f"http://127.0.0.1:{port}/lab/tree/{name}?token={token}")
-            _run_all_cells(driver, WebDriverWait(driver, timeout))
-            yield driver
-    finally:
-        stop(lab)
 
 
 def _status(driver) -> str:

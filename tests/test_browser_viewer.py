@@ -146,48 +146,21 @@ def test_motion_viewer_widget_plays_in_jupyterlab(tmp_path):
     and plays; ~30 s (JupyterLab start, kernel start)."""
     pytest.importorskip("selenium", reason="selenium is not installed (it is in requirements.txt)")
     pytest.importorskip("anywidget", reason="anywidget is in the notebooks extra")
-    import json
-
     from selenium.webdriver.common.by import By
     from selenium.webdriver.support.ui import WebDriverWait
 
-    from tests.test_browser_widgets import _free_port, _run_all_cells, _start_lab, _wait_http
-    folder = tmp_path / "lab"
-    folder.mkdir()
-    notebook = {"cells": [{"cell_type": "code", "execution_count": None, "id": "v1", "metadata": {},
-                           "outputs": [], "source": WIDGET_CELL}],
-                "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
-                "nbformat": 4, "nbformat_minor": 5}
-    (folder / "viewer.ipynb").write_text(json.dumps(notebook), encoding="utf-8")
-    port, token = _free_port(), "mslib-viewer-test"
-    lab = _start_lab(folder, port, token)
-    try:
-        _wait_http(f"http://127.0.0.1:{port}/api/status?token={token}", 90)
-        with _driver(tmp_path / "profile") as driver:
-            driver.get(f"http://127.0.0.1:{port}/lab/tree/viewer.ipynb?token={token}")
-            _run_all_cells(driver, WebDriverWait(driver, 180))
-            WebDriverWait(driver, 180).until(
-                lambda d: d.find_elements(By.CSS_SELECTOR, ".jp-OutputArea .mslib-viewer-canvas"))
-            # JupyterLab prefers the widget: the stand-in picture is not shown beside it
-            assert not driver.find_elements(By.CSS_SELECTOR, ".jp-OutputArea img")
-            drawn = pixels(driver)
-            assert drawn["drawn"] > 0.02 * drawn["total"]
-            assert min(drawn["counts"]["left"], drawn["counts"]["right"]) > 200, drawn["counts"]
-            driver.find_element(By.CSS_SELECTOR, ".mslib-viewer-play").click()
-            WebDriverWait(driver, 10).until(lambda d: frame(d) >= 10)
-            shot = Path(os.environ.get("MSLIB_ARTIFACTS") or tmp_path) / "viewer_jupyterlab.png"
-            shot.parent.mkdir(parents=True, exist_ok=True)
-            driver.save_screenshot(str(shot))
-            assert shot.stat().st_size > 10_000
-    finally:
-        stop(lab)
-
-
-def stop(process) -> None:
-    """End a process we started: politely, then for good after 20 s."""
-    import subprocess
-    process.terminate()
-    try:
-        process.wait(20)
-    except subprocess.TimeoutExpired:
-        process.kill()
+    from tests.test_browser_widgets import notebook_in_lab
+    with notebook_in_lab([WIDGET_CELL], tmp_path, "viewer.ipynb") as driver:
+        WebDriverWait(driver, 180).until(
+            lambda d: d.find_elements(By.CSS_SELECTOR, ".jp-OutputArea .mslib-viewer-canvas"))
+        # JupyterLab prefers the widget: the stand-in picture is not shown beside it
+        assert not driver.find_elements(By.CSS_SELECTOR, ".jp-OutputArea img")
+        drawn = pixels(driver)
+        assert drawn["drawn"] > 0.02 * drawn["total"]
+        assert min(drawn["counts"]["left"], drawn["counts"]["right"]) > 200, drawn["counts"]
+        driver.find_element(By.CSS_SELECTOR, ".mslib-viewer-play").click()
+        WebDriverWait(driver, 10).until(lambda d: frame(d) >= 10)
+        shot = Path(os.environ.get("MSLIB_ARTIFACTS") or tmp_path) / "viewer_jupyterlab.png"
+        shot.parent.mkdir(parents=True, exist_ok=True)
+        driver.save_screenshot(str(shot))
+        assert shot.stat().st_size > 10_000

@@ -7,6 +7,7 @@ Skips with the reason when chromium, chromedriver or selenium is missing (.ci/ru
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import socket
@@ -14,6 +15,7 @@ import subprocess
 import sys
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -166,3 +168,37 @@ def test_lambda_slider_redraws_the_figure_in_a_real_browser(tmp_path):
     assert seen["after"] != seen["before"]
     assert seen["readouts"][0] != seen["readouts"][1]  # the slider moved to the next λ
     assert seen["screenshot"].stat().st_size > 10_000
+
+
+@contextmanager
+def notebook_in_lab(cells: list, workdir: Path, name: str = "explorer.ipynb", timeout: float = 180):
+    """A throwaway notebook of `cells` under `workdir`, opened in JupyterLab in headless Chromium with every cell
+    run; yields the driver. JupyterLab and the browser end with the block."""
+    from selenium.webdriver.support.ui import WebDriverWait
+    folder = workdir / "lab"
+    folder.mkdir()
+    nb = {"cells": [{"cell_type": "code", "execution_count": None, "id": f"c{i}", "metadata": {}, "outputs": [],
+                     "source": source} for i, source in enumerate(cells)],
+          "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
+          "nbformat": 4, "nbformat_minor": 5}
+    (folder / name).write_text(json.dumps(nb), encoding="utf-8")
+    port, token = _free_port(), "mslib-explorer-test"
+    lab = _start_lab(folder, port, token)
+    try:
+        _wait_http(f"http://127.0.0.1:{port}/api/status?token={token}", 90)
+        with _driver(workdir / "profile") as driver:
+            driver.get(f"http://127.0.0.1:{port}/lab/tree/{name}?token={token}")
+            _run_all_cells(driver, WebDriverWait(driver, timeout))
+            yield driver
+    finally:
+        stop(lab)
+
+
+def stop(process) -> None:
+    """End a process we started: politely, then for good after 20 s."""
+    import subprocess
+    process.terminate()
+    try:
+        process.wait(20)
+    except subprocess.TimeoutExpired:
+        process.kill()
