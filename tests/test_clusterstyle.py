@@ -7,16 +7,17 @@ from mslib.checkpoints import course_path
 from mslib.models.clusterstyle import (SMA, ClusterStyle, ClusterStyleConfig, content_caption, null_text)
 from mslib.models.clusterstyle import Pipeline, pose_diversity
 from mslib.models.clusterstyle.prototypes import PrototypeConfig
+from mslib.models.clusterstyle.transfer import decode_rows, last_input
 from mslib.models.common.vae import MotionVAE, VAEConfig
-from mslib.motion.features import encode
+from mslib.motion.features import N_FEATURES, encode
 
 VOCAB = ["<pad>", "<unk>", "a", "forward", "person", "walks"]
 
 
 def tiny(stage="sma", seed=0):
     torch.manual_seed(seed)
-    cfg = ClusterStyleConfig.course(dim=16, layers=1, heads=2, ddim_steps=4)
-    pcfg = PrototypeConfig.course(dim=8, layers=1, heads=2, window=4)
+    cfg = ClusterStyleConfig.preset("course", dim=16, layers=1, heads=2, ddim_steps=4)
+    pcfg = PrototypeConfig.preset("course", dim=8, layers=1, heads=2, window=4)
     return ClusterStyle(cfg, pcfg, latent_tokens=2, latent_dim=4, vocab=VOCAB, stage=stage)
 
 
@@ -33,6 +34,45 @@ def walk_features(n_frames=30):
     pos[:, :, 2] = 0.8 * t[:, None]
     pos[:, 20, 0] = 0.3 * np.sin(6 * t)  # a moving wrist
     return encode(pos)
+
+
+def with_style_branch(pipe, seed=1):
+    """Random weights in the SMA's style output (zero at initialisation), so the style branch matters."""
+    torch.manual_seed(seed)
+    for blk in pipe.model.denoiser.blocks:
+        torch.nn.init.normal_(blk.sma.style_attn.out_proj.weight, std=0.3)
+    return pipe
+
+
+def test_config_presets_and_stored_configs():
+    assert ClusterStyleConfig() == ClusterStyleConfig.preset("paper")  # the defaults are D's
+    assert PrototypeConfig() == PrototypeConfig.preset("paper")
+    course, pcourse = ClusterStyleConfig.preset("course"), PrototypeConfig.preset("course")
+    assert (course.dim, course.ddim_steps, course.cfg_style, course.guide_weight) == (96, 20, 1.0, 1500.0)
+    assert (pcourse.dim, pcourse.k_global, pcourse.k_local, pcourse.window) == (64, 3, 6, 10)
+    assert ClusterStyleConfig().ddim_steps == 50 and PrototypeConfig().k_local == 30
+    assert ClusterStyleConfig.preset("course", ddim_steps=4).ddim_steps == 4
+    with pytest.raises(ValueError, match="ddim_stepz"):
+        ClusterStyleConfig.preset("course", ddim_stepz=4)
+    with pytest.raises(ValueError, match="preset"):
+        PrototypeConfig.preset("laptop")
+    with pytest.raises(ValueError, match="head"):
+        PrototypeConfig.preset("course", head="kmeans")
+    # the encoder always reads the 263-d vector: a stored input_dim of 263 loads, another is refused
+    stored = {**pcourse.to_dict(), "input_dim": N_FEATURES}
+    assert PrototypeConfig.from_dict(stored) == pcourse
+    with pytest.raises(ValueError, match="input_dim"):
+        PrototypeConfig.from_dict({**stored, "input_dim": 64})
+    model = tiny()  # a model's stored config builds the same model
+    again = ClusterStyle.from_config(model.config)
+    assert again.cfg == model.cfg and again.style_cfg == model.style_cfg
+    assert set(again.state_dict()) == set(model.state_dict())
+    for name in ("clusterstyle", "clusterstyle_t2m", "clusterstyle_style"):  # the packaged configs load unchanged
+        if course_path(name).is_file():
+            config = torch.load(course_path(name), weights_only=True)["config"]
+            assert PrototypeConfig.from_dict(config["prototypes"]) == pcourse
+            if "model" in config:
+                assert ClusterStyleConfig.from_dict(config["model"]).dim == course.dim
 
 
 def test_sma_is_text_plus_lambda_times_style():
@@ -138,6 +178,65 @@ def test_guidance_follows_the_cosine_gradient_only_below_its_threshold():
         assert score(z + 1e-2 * g / g.norm()) > score(z)  # the gradient raises cos(f(x̂₀), target)
 
 
+def test_sampler_gives_the_forward_pass_numbers():
+    pipe = with_style_branch(tiny_pipeline())
+    den = pipe.model.denoiser.eval()
+    torch.manual_seed(2)
+    text, pad = torch.randn(3, 1, 64), torch.zeros(3, 1, dtype=torch.bool)
+    style, keep = torch.randn(3, 5, 8), torch.tensor([0.0, 1.0, 1.0])
+    z, t = torch.randn(3, 2, 4), torch.tensor([900, 450, 7])
+    with torch.no_grad():
+        expected = den(z, t, text, pad, style, None, keep)
+        assert torch.allclose(den.sampler(text, pad, style, keep)(z, t), expected, atol=1e-6)
+        # no style kept, or no style at all: the style branch is silent
+        assert torch.allclose(den.sampler(text, pad, style, torch.zeros(3))(z, t), den(z, t, text, pad), atol=1e-6)
+        assert torch.allclose(den.sampler(text, pad)(z, t), den(z, t, text, pad), atol=1e-6)
+    with pytest.raises(ValueError, match="one token"):
+        den.sampler(torch.randn(3, 2, 64), torch.zeros(3, 2, dtype=torch.bool))
+
+
+def test_batched_guidance_equals_the_separate_calls():
+    """One denoiser call for the three CFG branches (and the conditions computed once) = three calls, D Eq. 12,
+    then D Eq. 15's guidance term."""
+    pipe = with_style_branch(tiny_pipeline())
+    style = pipe.style_tokens(walk_features(20))
+    text, pad = pipe.text_tokens("a person walks")
+    null, null_pad = pipe.text_tokens(None)
+    target = ("global", pipe.model.style.global_bank.prototypes[0, 1])
+    s_t, s_s, w = 2.5, 1.5, 5.0
+    fn = pipe.eps_fn(text, pad, style, 16, target=target, cfg_text=s_t, cfg_style=s_s, weight=w, below=300)
+    den, z = pipe.model.denoiser, torch.randn(1, 2, 4)
+    for step in (700, 100):
+        t = torch.tensor([step])
+        with torch.no_grad():
+            e_uu = den(z, t, null, null_pad)  # ε(∅, ∅)
+            e_cu = den(z, t, text, pad)  # ε(c, ∅)
+            e_cs = den(z, t, text, pad, style)  # ε(c, s)
+            eps = e_uu + s_t * (e_cu - e_uu) + s_s * (e_cs - e_cu)
+            assert not torch.allclose(e_cs, e_cu)  # the style branch counts
+        if step < 300:
+            eps = eps - w * (1 - float(pipe.model.sched.alphas_cumprod[step])) ** 0.5 * pipe.guidance_grad(
+                z, t, eps, 16, target)
+        with torch.no_grad():
+            assert torch.allclose(fn(z, t), eps, atol=1e-5)
+
+
+def test_decode_rows_reads_only_the_receptive_field():
+    torch.manual_seed(0)
+    vae = MotionVAE(VAEConfig(arch="conv", latent_tokens=64, latent_dim=4, dim=16, layers=3, dropout=0.0, max_len=256,
+                              down=4)).eval().double()
+    z = torch.randn(1, 64, 4, dtype=torch.float64)
+    with torch.no_grad():
+        full = vae.decode(z, [256])
+        for rows in (1, 64, 150, 256):  # 27, 27, 42 and all 64 of the latent tokens decoded
+            assert torch.allclose(decode_rows(vae, z, rows), full[:, :rows], atol=1e-12)
+        last = last_input(vae.conv.dec, 149)  # rows 0..149 read latent tokens 0..last, no further
+        for j, reads in ((last, True), (last + 1, False)):
+            moved = z.clone()
+            moved[0, j] += 1.0
+            assert bool((vae.decode(moved, [256])[:, :150] != full[:, :150]).any()) == reads
+
+
 def test_prototype_tokens_replace_the_global_and_local_features():
     pipe = tiny_pipeline()
     s = pipe.style_tokens(walk_features(20))  # 19 rows, window 4 → 4 local tokens
@@ -197,6 +296,7 @@ def test_packaged_checkpoint_loads_and_transfers():
     assert out.shape == (39, 263) and np.isfinite(out).all()
 
 
+@pytest.mark.bench
 def test_bench_clusterstyle_meets_its_h_bar_on_the_first_pairs():
     """Issue bar, on the first 40 pairs of the default draw (the note reports all 200): H ≥ 0.60 and above
     both reference rows."""

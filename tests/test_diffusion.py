@@ -66,6 +66,16 @@ def test_sdedit_partial_noising_starts_at_t0():
     assert abs(float(xn.var()) - (1 - float(s.alphas_cumprod[580]))) < 0.05
 
 
+def test_ddim_calls_the_denoiser_once_per_visited_step():
+    calls = []
+
+    def denoiser(x, t):
+        calls.append(int(t[0]))
+        return torch.zeros_like(x)
+    ddim_sample(denoiser, torch.zeros(2, 3), Schedule(), n_steps=20, t_start=600)
+    assert calls == ddim_timesteps(20, 1000, t_start=600) and len(calls) == 20
+
+
 def test_cfg_scale_one_is_conditional_zero_unconditional():
     u, c = torch.randn(2, 3), torch.randn(2, 3)
     assert torch.allclose(cfg_combine(u, c, 1.0), c)

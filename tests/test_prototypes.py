@@ -88,7 +88,7 @@ def test_local_means_windows():
 
 
 def test_model_features_are_unit_vectors_and_training_freezes_prototypes():
-    cfg = PrototypeConfig.course(dim=16, layers=1, heads=2, k_local=2, window=4, freeze_after=2, n_styles=3)
+    cfg = PrototypeConfig.preset("course", dim=16, layers=1, heads=2, k_local=2, window=4, freeze_after=2, n_styles=3)
     model = PrototypeStyleModel(cfg, seed=0).train()
     x, styles = torch.randn(6, 12, 263), torch.tensor([0, 0, 1, 1, 2, 2])
     g, loc = model.features(x)
@@ -108,7 +108,7 @@ def test_model_features_are_unit_vectors_and_training_freezes_prototypes():
 
 
 def test_classifier_head_variant_and_bad_input():
-    cfg = PrototypeConfig.course(dim=16, layers=1, heads=2, head="classifier", n_styles=3)
+    cfg = PrototypeConfig.preset("course", dim=16, layers=1, heads=2, head="classifier", n_styles=3)
     model = PrototypeStyleModel(cfg)
     logs = model.style_loss(torch.randn(4, 20, 263), torch.tensor([0, 1, 2, 0]))
     assert logs["loss"].ndim == 0 and not hasattr(model, "global_bank")
@@ -119,7 +119,7 @@ def test_classifier_head_variant_and_bad_input():
 
 
 def test_substyle_confusion_counts_nearest_own_style_prototypes_and_purity():
-    cfg = PrototypeConfig.course(dim=16, layers=1, heads=2, n_styles=2, k_global=3)
+    cfg = PrototypeConfig.preset("course", dim=16, layers=1, heads=2, n_styles=2, k_global=3)
     model = PrototypeStyleModel(cfg, seed=0).eval()
     x = torch.randn(7, 12, 263)
     styles, subs = torch.tensor([0, 0, 1, 1, 1, 0, 1]), torch.tensor([0, 1, 2, 2, 0, 1, 1])

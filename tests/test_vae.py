@@ -6,6 +6,7 @@ import torch
 from mslib.checkpoints import course_path
 from mslib.data.corpora import load_builtin
 from mslib.models.common import vae as V
+from mslib.models.common.layers import pad_batch
 
 
 def tiny(**kw):
@@ -26,7 +27,7 @@ def test_shapes_and_padding_invariance(make, latent):
     torch.manual_seed(0)
     vae = make().eval()
     a, b = torch.randn(21, 263), torch.randn(40, 263)
-    x, mask = V.pad_batch([a, b])
+    x, mask = pad_batch([a, b])
     z = vae.encode(x, mask)
     assert z.shape == (2, *latent)  # conv: max_len / 4 tokens whatever the clip's length
     alone = vae.encode(a[None])
@@ -56,7 +57,7 @@ def test_learns_to_reconstruct_a_few_clips(arch):
     vae = tiny() if arch == "transformer" else tiny_conv()
     t = torch.linspace(0, 3, 24)
     clips = [torch.sin(t[:, None] + torch.linspace(0, 3, 263) * k) for k in range(4)]
-    x, mask = V.pad_batch(clips)
+    x, mask = pad_batch(clips)
     opt = torch.optim.Adam(vae.parameters(), lr=3e-3)
     first = float(vae.loss_terms(x, mask)["rec"])
     for _ in range(60):

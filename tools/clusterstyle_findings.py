@@ -16,7 +16,8 @@ bench  the default bench draw (seed 0, 200 pairs) of `clusterstyle`, `identity` 
        notebook 06 need not spend minutes re-running 200 SDEdit transfers.
 guidance  the choice of the course inference settings: style guidance weight w (D Eq. 15, for t < 300) and
        the style CFG strength s_s, scored on 96 pairs from the *val* splits with the packaged model.
-Rows already in the JSON are kept unless re-run; each section records the checkpoint digest it measured.
+Sections not re-run are kept; each section records the command and the commit that made it, the VAE latent
+and the digest of the checkpoint it measured.
 """
 from __future__ import annotations
 
@@ -26,9 +27,11 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-OUT = ROOT / "notebooks" / "data" / "06_clusterstyle_findings.json"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
+
+OUT = DATA_DIR / "06_clusterstyle_findings.json"
+SECTIONS = ("fig5", "table3", "bench", "guidance")
 
 
 def val_examples(paths, per_style: int = 2) -> list:
@@ -56,8 +59,8 @@ def fig5(paths) -> dict:
     prototypes_one_seed      prototype k as style feature and guidance target, seed 0 for all;
     prototypes_paired_seeds  prototype k with seed k (prototype variation on top of seed variation);
     seeds                    the reference's own feature (and guidance), seeds 0..K−1 — D's "fixed feature".
-    Measures: pose_cm (`pose_diversity`), diversity (FIELD_FACTS: mean distance between the evaluator's
-    features, as the bench's column), style_diversity (the same on the style classifier's features only);
+    Measures: pose_cm (`pose_diversity`), diversity (the field's Diversity: mean distance between the
+    evaluator's features, as the bench's column), style_diversity (the same on the style classifier's features only);
     and hit_rate: % of prototype outputs whose global style feature is nearest the prototype used."""
     import numpy as np
     from mslib.evaluation import metrics as M
@@ -104,15 +107,15 @@ GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1
 
 def guidance(n_pairs: int = 96) -> dict:
     """H, CRA, SRA of SDEdit transfers on a val draw for (w, s_s) in GUIDANCE_GRID (t0 600, s_t 2.5)."""
-    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.evaluation.bench import Evaluator
     from mslib.models.clusterstyle import load_pipeline
     from mslib.motion.features import decode
-    pairs, ev, pipe = load_pairs(0, n_pairs, split="val"), Evaluator(), load_pipeline()
+    pairs, ev, pipe = val_pairs(n_pairs), Evaluator(), load_pipeline()
     rows = []
     for w, ss in GUIDANCE_GRID:
         outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0,
                                      weight=w, cfg_style=ss)) for c, s in pairs]
-        r = evaluate(outs, pairs, ev)
+        r = score_outputs(outs, pairs, ev)
         rows.append({"weight": w, "cfg_style": ss, **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "fsf", "tsi")}})
         print(rows[-1], flush=True)
     return {"pairs": n_pairs, "split": "val", "rows": rows}
@@ -121,7 +124,8 @@ def guidance(n_pairs: int = 96) -> dict:
 def encoder_accuracy(path, paths) -> float:
     """Held-out (test split) style accuracy of a trained style model, in percent."""
     from mslib.data.datasets import StyleClips
-    from mslib.models.clusterstyle.prototypes import NormalizedClips, load_style_model
+    from mslib.models.clusterstyle.prototypes import load_style_model
+    from mslib.models.clusterstyle.train import NormalizedClips
     from mslib.motion.features import Normalizer
     model = load_style_model(path)
     norm = Normalizer.load(paths["content"])
@@ -135,7 +139,7 @@ def encoder_accuracy(path, paths) -> float:
 
 def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
     """Clustering (prototypes) vs a learnable classification head with CE: short runs, SRA by the evaluator."""
-    from mslib.evaluation.bench import Evaluator, evaluate, load_pairs
+    from mslib.evaluation.bench import Evaluator, load_pairs
     from mslib.models import clusterstyle as C
     from mslib.models.clusterstyle import Pipeline
     from mslib.models.common.vae import load_vae
@@ -152,7 +156,7 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
         pipe = Pipeline(C.load_clusterstyle(sma_pt), vae)
         outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0))
                 for c, s in pairs]
-        r = evaluate(outs, pairs, ev)
+        r = score_outputs(outs, pairs, ev)
         rows.append({"head": head, "encoder_acc": round(encoder_accuracy(style_pt, paths), 2),
                      **{k: round(float(r[k]), 4) for k in ("sra", "sra_top3", "cra", "h", "fmd")},
                      "seconds": round(time.time() - t0, 1)})
@@ -162,19 +166,22 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", default="fig5,table3,bench,guidance")
+    ap.add_argument("--only", default=",".join(SECTIONS), help=f"comma-separated sections of {', '.join(SECTIONS)}")
     ap.add_argument("--sma-steps", type=int, default=400)
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--workdir", default="/tmp/clusterstyle_findings")
     args = ap.parse_args(argv)
+    todo = args.only.split(",")
+    unknown = sorted(set(todo) - set(SECTIONS))
+    if unknown:
+        ap.error(f"--only: unknown sections {unknown}; expected some of {', '.join(SECTIONS)}")
     import torch
     from mslib.data.corpora import load_builtin
     torch.manual_seed(0)
     paths = load_builtin(progress=False)
     workdir = Path(args.workdir)
     workdir.mkdir(parents=True, exist_ok=True)
-    result = json.loads(OUT.read_text()) if OUT.is_file() else {}
-    todo = args.only.split(",")
+    result = {}
     if "fig5" in todo:
         t0 = time.time()
         result["fig5"] = fig5(paths)
@@ -187,20 +194,14 @@ def main(argv=None) -> int:
         from mslib.evaluation.bench import run_bench
         result["bench"] = {"rows": [run_bench(m) for m in ("clusterstyle", "identity", "copy_style")]}
         print("bench", json.dumps(result["bench"]), flush=True)
-    result.pop("command", None)  # older files: one command for the whole file
     command = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
+    from mslib.checkpoints import checkpoint_digest
     from mslib.models.common.vae import load_vae
     vae_cfg = load_vae().cfg
-    from mslib.checkpoints import checkpoint_digest
-    for key in ("fig5", "table3", "bench", "guidance"):
-        if key in todo:  # which run wrote this section, on which course VAE latent and ClusterStyle checkpoint
-            result[key]["command"] = command
-            result[key]["vae_latent"] = [vae_cfg.latent_tokens, vae_cfg.latent_dim]
-            result[key]["checkpoint"] = checkpoint_digest("clusterstyle_t2m" if key == "table3" else "clusterstyle")
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    latest = json.loads(OUT.read_text()) if OUT.is_file() else {}  # re-read: parallel runs of other sections merge
-    result = {**latest, **{k: v for k, v in result.items() if k in todo}}
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    for key, section in result.items():  # which run wrote it, on which course VAE latent and ClusterStyle checkpoint
+        section.update(command=command, commit=current_commit(), vae_latent=[vae_cfg.latent_tokens, vae_cfg.latent_dim],
+                       checkpoint=checkpoint_digest("clusterstyle_t2m" if key == "table3" else "clusterstyle"))
+    update_json(OUT, result)  # the sections not re-run stay as they are (a parallel run's included)
     print(json.dumps({k: v for k, v in result.items() if k != "fig5"} | {"fig5": result.get("fig5", {}).get("summary")}))
     return 0
 

@@ -113,7 +113,7 @@ _ = fig
 
 # %%
 torch.manual_seed(0)
-live, hist = P.train_style_model("course", paths["content"], paths["style"], seed=0, steps=40, progress=False)
+live, hist = C.train_style_model("course", paths["content"], paths["style"], seed=0, steps=40, progress=False)
 loss = np.array(hist["train"]["loss"])
 print(f"L_style: first 5 steps {loss[:5].mean():.1f}, last 5 steps {loss[-5:].mean():.1f}; "
       f"prototypes frozen after step {live.cfg.freeze_after}: {bool(live.global_bank.frozen)}")

@@ -1,54 +1,86 @@
-"""Paper D's prototype clustering of style features (D §3.2–3.3, DESIGN.md §6).
+"""Paper D's style prototypes (D §3.2–3.3): a style encoder whose features cluster around K per-style
+prototypes, so that one style is represented by several sub-style patterns, not one point.
 
-A transformer style encoder turns a motion into per-frame tokens; their mean over time is the
-global feature and their means over windows of `w` frames the local features, all L2-normalised.
-Each style owns K global and K' local prototypes — unit vectors that are *not* trained by
-gradients: a balanced Sinkhorn–Knopp assignment maps each feature to one of its style's
-prototypes, the prototypes follow their assigned features by EMA, and two InfoNCE losses pull a
-feature to its prototype against the other styles' (inter) and all other (intra) prototypes.
+A transformer style encoder E turns a motion x (T, 263) into per-frame tokens E(x) (T, D). Its style
+features (D §3.3), all L2-normalised:
 
-Input: the 263-d features normalised with the model's Normalizer (the content corpus statistics,
-the same the motion VAE uses). Why not joint positions (paper A's choice): prototype guidance
-(D Eq. 9) differentiates the style feature of the VAE decoder's output, which *is* a normalised
-263-d vector, and that vector already holds the root-relative joint positions (posture) besides
-velocities (tempo, bounce) and contacts — no differentiable decoding to positions is needed.
+    global   f_g   = normalise(mean_t E(x)_t)                                               (D,)
+    local    f_l^j = normalise(mean of E(x)_t over window j of w frames),  j = 1..W = ⌊T/w⌋   (W, D)
 
-`head="classifier"` swaps the prototypes for a learnable linear head trained with cross-entropy,
-the "w/o clustering" row of D Table 3.
+Each style c owns K global and K' local prototypes P^c = [p_1 … p_K] (unit vectors, D × K). They are
+*not* trained by gradients (D §3.2):
+
+    assignment   (D Eq. 4)  Q* = argmax_Q Tr(Qᵀ P^cᵀ F) + ε H(Q),  Q ∈ R₊^{K×N},  Q 1_N = 1_K/K,  Qᵀ 1_K = 1_N/N
+                 F: the N features of style c in the batch, one per column; every feature assigned once,
+                 every prototype about N/K times. A few Sinkhorn–Knopp iterations on exp(P^cᵀ F / ε), then
+                 each feature's argmax is its prototype p⁺.
+    update       (D Eq. 8)  p⁺ ← normalise(m·p⁺ + (1 − m)·mean of the features assigned to it)
+    inter-style  (D Eq. 5)  L_inter = −log e^{cos(f,p⁺)/τ} / (e^{cos(f,p⁺)/τ} + Σ_{p⁻ of other styles} e^{cos(f,p⁻)/τ})
+    intra-style  (D Eq. 6)  L_intra = −log e^{cos(f,p⁺)/τ} / Σ_{every prototype p} e^{cos(f,p)/τ}
+    style loss   (D Eq. 7, 10)  L_style = L_g + L_l,  each level's L = L_inter + L_intra
+
+The prototypes freeze after `freeze_after` steps (D §3.5). The style representation the SMA reads is
+[f_g; f_l^1 … f_l^W] (1 + W tokens, D §3.3).
+
+Input: the 263-d features normalised with the model's Normalizer (the content corpus statistics, the
+same the motion VAE uses). Why not joint positions (paper A's choice): prototype guidance (D Eq. 9)
+differentiates the style feature of the VAE decoder's output, which *is* a normalised 263-d vector, and
+that vector already holds the root-relative joint positions (posture) besides velocities (tempo, bounce)
+and contacts — no differentiable decoding to positions is needed.
+
+Switches for D's ablations: `head="classifier"` swaps the prototypes for a learnable linear head trained
+with cross-entropy, the "w/o clustering" row of D Table 3; `k_global` and `k_local` are the prototype
+numbers of its other rows.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
+from typing import ClassVar
 
 import torch
 import torch.distributed as dist
 import torch.nn.functional as F
 from torch import nn
 
+from ...motion.features import N_FEATURES
+from ..common.config import Config
 from ..common.layers import PositionalEncoding, transformer_encoder
 
 HEADS = ("prototypes", "classifier")
 
 
 @dataclass
-class PrototypeConfig:
-    """Style encoder and prototype settings; defaults are paper D's (§3.5), `course()` the CPU preset."""
+class PrototypeConfig(Config):
+    """Style encoder and prototype settings; defaults are paper D's (§3.5), `course` is the CPU recipe.
+
+    The course recipe, for the built-in style corpus: k_global = 3, as in D: every built-in style has 2–4
+    named sub-styles (3 on average; ~155 train clips per style, so ~50 clips per prototype). window = 10
+    frames ≈ one step at 20 fps, so a 32-frame clip (31 feature rows) gives 3 local features; k_local = 6
+    ≈ 3 sub-styles × the two halves of a gait cycle (~470 local features per style, ~80 per prototype) —
+    30 prototypes would leave ~15 features each, too few for stable centroids. Training is 300 steps and
+    the prototypes freeze after 150 (D's ratio, 1800/3500 ≈ 0.5). No dropout: it makes a CPU step much
+    slower and the style loss does not overfit in 300 steps."""
 
     n_styles: int = 8
-    input_dim: int = 263
     dim: int = 512  # D §3.5: 6 layers, width 512
     layers: int = 6
     heads: int = 8
     dropout: float = 0.1
-    k_global: int = 3  # D §3.5 and Table 3
-    k_local: int = 30
+    k_global: int = 3  # K of D §3.5 and Table 3
+    k_local: int = 30  # K'
     window: int = 16  # w: local segment length in frames (not given in D's text)
-    epsilon: float = 0.05  # Sinkhorn entropy weight (DESIGN §6)
+    epsilon: float = 0.05  # ε: Sinkhorn entropy weight (D Eq. 4; its value is lost in our copy of D)
     sinkhorn_iters: int = 3
-    momentum: float = 0.95  # D Eq. 8
-    tau: float = 0.05  # D Eq. 5–6 temperature
+    momentum: float = 0.95  # m of D Eq. 8
+    tau: float = 0.05  # τ of D Eq. 5–6
     freeze_after: int = 1800  # D §3.5: prototype updates stop after 1800 of 3500 iterations
     head: str = "prototypes"  # or "classifier" (D Table 3, first row)
+
+    PRESETS: ClassVar[dict] = {
+        "paper": {},
+        "course": dict(dim=64, layers=2, heads=4, dropout=0.0, k_local=6, window=10, freeze_after=150),
+    }
+    RETIRED: ClassVar[dict] = {"input_dim": N_FEATURES}  # the encoder always reads the 263-d vector
 
     def __post_init__(self):
         if self.head not in HEADS:
@@ -61,34 +93,14 @@ class PrototypeConfig:
         if self.epsilon <= 0 or self.tau <= 0:
             raise ValueError(f"epsilon and tau: must be positive, got {self.epsilon} and {self.tau}")
 
-    @classmethod
-    def paper(cls, **kw) -> "PrototypeConfig":
-        """Paper D's sizes (§3.5)."""
-        return cls(**kw)
-
-    @classmethod
-    def course(cls, **kw) -> "PrototypeConfig":
-        """CPU preset for the built-in style corpus.
-
-        k_global = 3: every built-in style has 2–4 named sub-styles (3 on average; ~155 train clips
-        per style, so ~50 clips per prototype). window = 10 frames ≈ one step at 20 fps, so a
-        32-frame clip (31 feature rows) gives 3 local features; k_local = 6 ≈ 3 sub-styles × the two
-        halves of a gait cycle (~470 local features per style, ~80 per prototype) — 30 prototypes
-        would leave ~15 features each, too few for stable centroids. Training is 300 steps, the
-        prototypes freeze after 150 (D's ratio, 1800/3500 ≈ 0.5). No dropout: it triples the CPU
-        cost of a step and the style loss does not overfit in 300 steps."""
-        base = dict(dim=64, layers=2, heads=4, dropout=0.0, k_global=3, k_local=6, window=10, freeze_after=150)
-        base.update(kw)
-        return cls(**base)
-
 
 # ---------------------------------------------------------------- the pieces, as functions
 def sinkhorn(scores: torch.Tensor, epsilon: float = 0.05, iters: int = 3) -> torch.Tensor:
     """Balanced soft assignment of N features to K prototypes from scores (N, K) → Q (N, K).
 
-    DESIGN §6: Q = argmax Tr(Qᵀ Pᵀ F) + ε H(Q) with every prototype used about N/K times, solved
-    by Sinkhorn–Knopp on exp(PᵀF / ε): alternately scale the prototype columns to 1/K and the
-    feature rows to 1/N. Returned rows sum to 1 (one feature, one unit of mass); column sums ≈ N/K."""
+    D Eq. 4: Q = argmax Tr(Qᵀ Pᵀ F) + ε H(Q) with every prototype used about N/K times, solved by
+    Sinkhorn–Knopp on exp(PᵀF / ε): alternately scale the prototype columns to 1/K and the feature rows
+    to 1/N. Returned rows sum to 1 (one feature, one unit of mass); column sums ≈ N/K."""
     if scores.ndim != 2 or scores.shape[0] < 1 or scores.shape[1] < 1:
         raise ValueError(f"scores: expected a non-empty (N, K) matrix, got shape {tuple(scores.shape)}")
     n, k = scores.shape
@@ -136,11 +148,11 @@ def local_means(tokens: torch.Tensor, window: int) -> torch.Tensor:
 
 # ---------------------------------------------------------------- the modules
 class StyleEncoder(nn.Module):
-    """Transformer on normalised 263-d features → per-frame tokens (B, T, D)."""
+    """E: transformer on normalised 263-d features (B, T, 263) → per-frame tokens (B, T, D)."""
 
     def __init__(self, cfg: PrototypeConfig):
         super().__init__()
-        self.inp = nn.Linear(cfg.input_dim, cfg.dim)
+        self.inp = nn.Linear(N_FEATURES, cfg.dim)
         self.pos = PositionalEncoding(cfg.dim)
         self.body = transformer_encoder(cfg.dim, cfg.heads, cfg.layers, dropout=cfg.dropout)
         self.out = nn.LayerNorm(cfg.dim)
@@ -200,8 +212,8 @@ class PrototypeStyleModel(nn.Module):
 
     def __init__(self, cfg: PrototypeConfig | None = None, seed: int = 0):
         super().__init__()
-        self.cfg = cfg or PrototypeConfig.course()
-        self.config = {"prototypes": asdict(self.cfg)}
+        self.cfg = cfg or PrototypeConfig.preset("course")
+        self.config = {"prototypes": self.cfg.to_dict()}
         self.encoder = StyleEncoder(self.cfg)
         if self.cfg.head == "prototypes":
             self.global_bank = PrototypeBank(self.cfg.n_styles, self.cfg.k_global, self.cfg.dim, seed)
@@ -213,8 +225,8 @@ class PrototypeStyleModel(nn.Module):
 
     def features(self, x: torch.Tensor) -> tuple:
         """Normalised features (B, T, 263) → global (B, D) and local (B, W, D) unit vectors (D §3.3)."""
-        if x.ndim != 3 or x.shape[-1] != self.cfg.input_dim:
-            raise ValueError(f"x: expected (B, T, {self.cfg.input_dim}) features, got shape {tuple(x.shape)}")
+        if x.ndim != 3 or x.shape[-1] != N_FEATURES:
+            raise ValueError(f"x: expected (B, T, {N_FEATURES}) features, got shape {tuple(x.shape)}")
         tokens = self.encoder(x)  # (B, T, D)
         g = F.normalize(tokens.mean(1), dim=-1)  # global: mean over time
         loc = F.normalize(local_means(tokens, self.cfg.window), dim=-1)  # local: means over windows
@@ -284,7 +296,7 @@ def load_style_model(path=None, device="cpu") -> PrototypeStyleModel:
     """A trained style model (default: the packaged course `clusterstyle_style.pt`), in eval mode."""
     from ...checkpoints import course_path, load_state, read_checkpoint
     path = course_path("clusterstyle_style") if path is None else path
-    model = PrototypeStyleModel(PrototypeConfig(**read_checkpoint(path)["config"]["prototypes"]))
+    model = PrototypeStyleModel(PrototypeConfig.from_dict(read_checkpoint(path)["config"]["prototypes"]))
     load_state(path, model)
     return model.to(device).eval()
 
@@ -309,62 +321,3 @@ def matched_purity(table) -> float:
     t = torch.as_tensor(table).numpy()
     hit = sum(t[c][linear_sum_assignment(-t[c])].sum() for c in range(len(t)))
     return float(hit / max(t.sum(), 1))
-
-
-# ---------------------------------------------------------------- training (the style stage)
-class NormalizedClips(torch.utils.data.Dataset):
-    """A dataset of unnormalised clips, normalised with given 263-d mean/std (the model's statistics)."""
-
-    def __init__(self, dataset, mean, std):
-        self.dataset = dataset
-        self.mean = torch.as_tensor(mean, dtype=torch.float32)
-        self.std = torch.as_tensor(std, dtype=torch.float32)
-
-    def __len__(self) -> int:
-        return len(self.dataset)
-
-    def __getitem__(self, i: int) -> dict:
-        item = dict(self.dataset[i])
-        item["features"] = (item["features"] - self.mean) / self.std
-        return item
-
-
-def style_train_config(preset: str, seed: int = 0, steps: int | None = None):
-    """(PrototypeConfig, TrainConfig) of the style stage for a preset."""
-    from ...training import TrainConfig
-    if preset == "course":
-        cfg = PrototypeConfig.course()
-        train = TrainConfig(steps=300, batch_size=64, lr=1e-3, warmup_steps=30, schedule="cosine",
-                            val_every=100, seed=seed)
-    elif preset == "paper":  # D §3.5: AdamW, batch 128, lr 2e-5, 500 warm-up + 3000 constant
-        cfg = PrototypeConfig.paper()
-        train = TrainConfig(steps=3500, batch_size=128, lr=2e-5, warmup_steps=500, schedule="constant",
-                            val_every=250, seed=seed)
-    else:
-        raise ValueError(f"preset: expected 'course' or 'paper', got {preset!r}")
-    if steps:
-        train.steps = int(steps)
-        cfg.freeze_after = max(1, int(round(cfg.freeze_after * steps / (300 if preset == "course" else 3500))))
-    return cfg, train
-
-
-def train_style_model(preset: str, content, style, seed: int = 0, out=None, device: str = "cpu",
-                      steps: int | None = None, resume=None, progress: bool = True, head: str = "prototypes",
-                      model_name: str = "clusterstyle_style", **overrides) -> tuple:
-    """Train the style encoder and its prototypes (or a classifier head) on the style corpus; (model, history)."""
-    from ...data.datasets import StyleClips
-    from ...motion.features import Normalizer
-    from ...training import fit
-    cfg, train = style_train_config(preset, seed, steps)
-    cfg.head = head
-    for k, v in overrides.items():
-        setattr(cfg, k, v)
-    cfg.__post_init__()
-    norm = Normalizer.load(content)  # the content corpus statistics, shared with the motion VAE
-    model = PrototypeStyleModel(cfg, seed=seed)
-    model.config["normalizer"] = "content"
-    data = {s: NormalizedClips(StyleClips(style, s, normalize=False, joints=False), norm.mean, norm.std)
-            for s in ("train", "val")}
-    history = fit(model, data["train"], train, val_set=data["val"], model_name=model_name, out=out,
-                  resume=resume, device=device, progress=progress)
-    return model, history

@@ -1,10 +1,32 @@
-"""Paper D inference: three-way classifier-free guidance (D App. A.1), prototype guidance (D Eq. 9,
-App. B), stylized generation, SDEdit style transfer (D App. C) and the prototype variants of D Fig. 5.
+"""Paper D inference: three-way classifier-free guidance, style guidance by the prototypes' feature space,
+stylized generation, SDEdit style transfer and the prototype variants of D Fig. 5.
 
     pipe = load_pipeline(device="cpu")            # the course VAE + ClusterStyle checkpoints
     raw = pipe.transfer(content_raw, style_raw, caption=None, t0=600)     # (T−1, 263) unnormalised
     raw = pipe.generate("a person walks forward", style_raw, length=63, seed=0)
     raws = pipe.variants(content_raw, style_raw, kind="global")           # one output per global prototype
+
+At each DDIM step t (deterministic, η = 0; `common/diffusion.py`), with text c and style representation s:
+
+    CFG        ε̃ = ε(∅,∅) + s_t·(ε(c,∅) − ε(∅,∅)) + s_s·(ε(c,s) − ε(c,∅)),  ε(c,s) = ε_θ(z_t, t, c, s)   (D Eq. 12)
+    x̂₀         x̂₀ = (z_t − √(1 − ᾱ_t)·ε̃) / √ᾱ_t                                                    (D Eq. 13)
+    guidance   G = cos(f(D(x̂₀)), target), D the VAE decoder, f the style encoder's feature:       (D Eq. 14)
+                 the global feature against the reference's (the transfer default) or a global
+                 prototype p_k (D Eq. 16); or (1/W)·Σ_j cos(f_l^j, p_{k_j}), the local features
+                 against chosen local prototypes (D Eq. 17)
+    update     ε̂ = ε̃ − w·√(1 − ᾱ_t)·∇_{z_t} G,  only for t < guide_below (D App. A.2: 300)        (D Eq. 15)
+
+Transfer is SDEdit (D App. C): encode the content, noise it to t₀ (z_{t₀} = √ᾱ_{t₀} z₀ + √(1 − ᾱ_{t₀}) ε),
+denoise from t₀ with the above, decode. Generation starts from pure noise at t = T − 1.
+
+Cost per step: the three CFG rows in one batched denoiser call, the conditions' parts computed once per
+sample (`Denoiser.sampler`); the guidance gradient (decode, style feature, backprop) only below the
+threshold and with autograd only there, decoding only the latent tokens the style encoder's rows read
+(`decode_rows`).
+
+Departures from D: the guidance's style feature is ClusterStyle's own style encoder (D App. A.2 trains a
+separate style feature extractor, after SMooDi), so that the prototypes and the guidance share one space;
+w is on the scale of the course latent (see ClusterStyleConfig).
 """
 from __future__ import annotations
 
@@ -13,10 +35,12 @@ import itertools
 import numpy as np
 import torch
 import torch.nn.functional as F
+from torch import nn
 
 from ..common.diffusion import ddim_sample
+from ..common.layers import ResBlock1d
 from ..common.vae import load_vae
-from ...motion.features import decode
+from ...motion.features import N_FEATURES, decode
 from .model import MAX_STYLE_ROWS, ClusterStyle, load_clusterstyle, null_text
 
 
@@ -32,8 +56,8 @@ class Pipeline:
     def normalize(self, raw) -> torch.Tensor:
         """Unnormalised (T, 263) → normalised (T, 263) tensor with the VAE's statistics."""
         x = torch.as_tensor(np.asarray(raw), dtype=torch.float32, device=self.device)
-        if x.ndim != 2 or x.shape[1] != 263:
-            raise ValueError(f"features: expected (T, 263), got shape {tuple(x.shape)}")
+        if x.ndim != 2 or x.shape[1] != N_FEATURES:
+            raise ValueError(f"features: expected (T, {N_FEATURES}), got shape {tuple(x.shape)}")
         return self.vae.normalize(x)
 
     @torch.no_grad()
@@ -78,9 +102,9 @@ class Pipeline:
     # ---------------------------------------------------------------- the guided noise prediction
     def eps_fn(self, text, text_pad, style, n_rows: int, target=None, cfg_text=None, cfg_style=None,
                weight=None, below=None):
-        """ε̃(z_t, t): three-way CFG, then prototype/reference guidance for t < `below` (D Eq. 9, 15).
+        """ε̂(z_t, t): three-way CFG (D Eq. 12), then style guidance for t < `below` (D Eq. 15).
 
-        CFG (SMooDi's form): ε = ε(∅,∅) + s_t·(ε(c,∅) − ε(∅,∅)) + s_s·(ε(c,s) − ε(c,∅)).
+        text (1, 1, Dt) and pad (1, 1); style (1, S, Ds); n_rows: the clip's length in feature rows;
         target: None, or ("global", (D,) unit vector), or ("local", (W, D) unit vectors)."""
         st = self.cfg.cfg_text if cfg_text is None else cfg_text
         ss = self.cfg.cfg_style if cfg_style is None else cfg_style
@@ -92,26 +116,27 @@ class Pipeline:
         pads = torch.cat([null_pad, text_pad, text_pad])
         styles = style.expand(3, -1, -1)
         keep = torch.tensor([0.0, 0.0, 1.0], device=self.device)
+        denoise = den.sampler(texts, pads, styles, keep)  # the conditions' parts computed once, not per step
 
         def fn(z_t, t):
-            e = den(z_t.expand(3, -1, -1), t.expand(3), texts, pads, styles, None, keep)
-            eps = e[0:1] + st * (e[1:2] - e[0:1]) + ss * (e[2:3] - e[1:2])
-            if target is not None and w > 0 and int(t[0]) < below:
+            e = denoise(z_t.expand(3, -1, -1), t.expand(3))  # (3, N, d): ε(∅,∅), ε(c,∅), ε(c,s) in one call
+            eps = e[0:1] + st * (e[1:2] - e[0:1]) + ss * (e[2:3] - e[1:2])  # D Eq. 12, (1, N, d)
+            if target is not None and w > 0 and int(t[0]) < below:  # autograd only at these steps
                 eps = eps - w * (1 - float(sched.alphas_cumprod[int(t[0])])) ** 0.5 * self.guidance_grad(
-                    z_t, t, eps, n_rows, target)  # D Eq. 15: move ε̂ along ∇ cos(f(x̂₀), target)
+                    z_t, t, eps, n_rows, target)  # D Eq. 15: ε̂ = ε̃ − w·√(1 − ᾱ_t)·∇_{z_t} G
             return eps
         return fn
 
     def guidance_grad(self, z_t, t, eps, n_rows: int, target) -> torch.Tensor:
-        """∇_{z_t} of D Eq. 9 / 16 / 17: cos(f(D(x̂₀)), target), with ε̂ held fixed (x̂₀ from D Eq. 13)."""
+        """∇_{z_t} G, G = cos(f(D(x̂₀)), target) (D Eq. 14, 16, 17), ε̂ held fixed (x̂₀: D Eq. 13)."""
         with torch.enable_grad():
             z = z_t.detach().requires_grad_(True)
             x0 = self.model.sched.predict_x0(z, t, eps.detach())  # D Eq. 13
-            motion = self.vae.decode(x0, [n_rows])[:, :MAX_STYLE_ROWS]  # (1, ≤64, 263) normalised
+            motion = decode_rows(self.vae, x0, min(n_rows, MAX_STYLE_ROWS))  # (1, ≤64, 263) normalised
             g, loc = self.model.style.features(motion)
             kind, tgt = target
             if kind == "global":
-                score = F.cosine_similarity(g[0], tgt, dim=0)  # D Eq. 16
+                score = F.cosine_similarity(g[0], tgt, dim=0)  # D Eq. 14 (reference) / 16 (prototype)
             else:
                 n = min(len(tgt), loc.shape[1])
                 score = F.cosine_similarity(loc[0, :n], tgt[:n], dim=1).mean()  # D Eq. 17
@@ -130,7 +155,7 @@ class Pipeline:
         fn = self.eps_fn(text, text_pad, style, n_rows, target, **kw)
         z0 = ddim_sample(fn, z_start, self.model.sched, n_steps=self.cfg.ddim_steps, t_start=t_start, generator=gen)
         with torch.no_grad():
-            x = self.vae.denormalize(self.vae.decode(z0, [n_rows]))[0]
+            x = self.vae.denormalize(decode_rows(self.vae, z0, n_rows))[0]
         return x.double().cpu().numpy()
 
     def _target(self, guide, style_tokens):
@@ -202,6 +227,43 @@ class Pipeline:
         if mode == "transfer":
             return [self.transfer(content_raw, style_raw, caption, seed=s, **kw) for s in seeds]
         return [self.generate(caption, style_raw, length, seed=s, **kw) for s in seeds]
+
+
+# ---------------------------------------------------------------- decoding only what is read
+def last_input(module: nn.Module, last: int) -> int:
+    """The last input position that output positions 0..`last` of a stack of 1-D convolutions read."""
+    if isinstance(module, nn.Sequential):
+        for m in reversed(module):
+            last = last_input(m, last)
+        return last
+    if isinstance(module, ResBlock1d):  # x + body(x)
+        return max(last, last_input(module.body, last))
+    if isinstance(module, nn.ConvTranspose1d):  # output o = s·i − p + d·j, 0 ≤ j < k: i ≤ (o + p) / s
+        return (last + module.padding[0]) // module.stride[0]
+    if isinstance(module, nn.Conv1d):  # output o reads inputs s·o − p + d·j, 0 ≤ j < k
+        return last * module.stride[0] - module.padding[0] + module.dilation[0] * (module.kernel_size[0] - 1)
+    if isinstance(module, (nn.LeakyReLU, nn.ReLU, nn.GELU, nn.SiLU, nn.Identity)):  # pointwise
+        return last
+    raise TypeError(f"last_input: no rule for {type(module).__name__}")
+
+
+# Fewest latent tokens `decode_rows` decodes. The rows' receptive field needs fewer (21 for 64 rows), but PyTorch
+# picks a convolution's CPU kernel by input size (oneDNN for one clip above 20480 input values), and only from
+# 27 tokens (108 frames × 192 channels) do the course VAE's full-resolution layers run the kernel they run in a
+# whole-latent decode; with fewer, the guidance changes in the last float digits.
+MIN_DECODE_TOKENS = 27
+
+
+def decode_rows(vae, z: torch.Tensor, rows: int) -> torch.Tensor:
+    """The first `rows` rows of the VAE's decoding of z (B, N, d) → (B, rows, 263), normalised.
+
+    The course VAE's decoder is convolutional, so those rows read the first latent tokens only (its receptive
+    field, `last_input`): only those are decoded — the same numbers as decoding all and cutting. Other VAEs
+    decode the whole latent."""
+    if vae.cfg.arch != "conv":
+        return vae.decode(z, [rows] * len(z))[:, :rows]
+    n = min(z.shape[1], max(MIN_DECODE_TOKENS, last_input(vae.conv.dec, rows - 1) + 1))
+    return vae.conv.decode(z[:, :n] * vae.latent_scale)[:, :rows]
 
 
 def pose_diversity(features_list: list) -> float:

@@ -2,7 +2,7 @@
 tensor shape, ε-prediction training, a DDIM sampler, classifier-free guidance and SDEdit noising.
 
 API (stable; `x` is any (B, ...) tensor, `t` integer steps (B,) in [0, T)):
-    sched = Schedule(steps=1000, beta_start=0.00085, beta_end=0.012)   # "scaled linear" (FIELD_FACTS)
+    sched = Schedule(steps=1000, beta_start=0.00085, beta_end=0.012)   # "scaled linear", MLD's (B's and D's)
     sched.betas, sched.alphas_cumprod                                  # (T,) float64 tensors
     x_t = sched.q_sample(x0, t, noise)                                 # forward noising q(x_t | x_0)
     x_t, target = sched.training_pair(x0, t, generator=None)           # ε-prediction: target = ε
@@ -12,7 +12,8 @@ API (stable; `x` is any (B, ...) tensor, `t` integer steps (B,) in [0, T)):
     eps = cfg_combine(eps_uncond, eps_cond, scale)                     # B Eq. 5: ε_u + s(ε_c − ε_u)
     x0 = ddim_sample(denoiser, shape_or_x_T, sched, n_steps=50, eta=0.0, t_start=None,
                      generator=None, callback=None)
-        denoiser(x_t, t) -> ε̂ (same shape as x_t); t is a (B,) long tensor.
+        denoiser(x_t, t) -> ε̂ (same shape as x_t); t is a (B,) long tensor. It is called once per step, so
+        guidance that needs several predictions (CFG's branches) batches them inside one call.
         t_start: begin at that step (SDEdit) from the given tensor instead of pure noise.
         callback(i, t, x_t, x0_pred) is called after every step (for pictures of x̂₀ along the way).
     x_t0 = sched.noise_to(x0, t0, generator=None)                      # SDEdit: partial noising to t₀

@@ -35,7 +35,7 @@ from ...motion.features import N_FEATURES
 from ...motion.features import decode as decode_positions
 from ...training import TrainConfig, fit, run_summary
 from .config import Config
-from .layers import Normalized, PositionalEncoding, ResBlock1d, pad_batch, transformer_encoder  # noqa: F401 (pad_batch: B and D import it from here)
+from .layers import Normalized, PositionalEncoding, ResBlock1d, pad_batch, transformer_encoder
 
 NAME = "vae"
 

@@ -16,7 +16,8 @@ from ...data.datasets import ContentClips, StyleClips
 from ...motion.features import TRAJECTORY_DIMS
 from ...training import TrainConfig, fit, run_summary
 from ..common import style_extractor as SE
-from ..common.vae import MotionVAE, load_vae, pad_batch
+from ..common.layers import pad_batch
+from ..common.vae import MotionVAE, load_vae
 from .model import MCMLDM, NAME, STYLE_WINDOW, MCMConfig
 
 MIN_VIEW = 32  # frames of the shortest random crop (a further view of a clip)
