@@ -18,7 +18,6 @@ mslib.setup_notebook(seed=0)
 
 import numpy as np
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 from mslib import viz
 from mslib.motion import skeleton as sk
@@ -108,9 +107,13 @@ walks = [generate_clip("walk", s, seed=0, index=10 + i, duration=3.0) for i, s i
 fig = viz.plot_strip([w.positions for w in walks], n_frames=5, view="side", titles=list(STYLES))
 _ = fig
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html([w.positions for w in walks[:4]], titles=list(STYLES[:4]), max_frames=40))
+viz.MotionViewer([w.positions for w in walks[:4]], titles=list(STYLES[:4]))
 
 # %% [markdown]
 # Each style has named **sub-styles** — the intra-style diversity paper D models with prototypes:

@@ -23,7 +23,6 @@ mslib.setup_notebook(seed=0)
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 from mslib import viz
 from mslib.checkpoints import checkpoint_digest, course_path
@@ -204,10 +203,27 @@ fig = viz.plot_strip([walk["joints"].numpy()] + [outputs[s] for s in STYLES], n_
                      row_labels=["content"] + list(STYLES))
 _ = fig
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html([walk["joints"].numpy()] + [outputs[s] for s in ("angry", "depressed", "old", "proud")],
-                        titles=["content", "angry", "depressed", "old", "proud"], max_frames=40, view="side"))
+viz.MotionViewer([walk["joints"].numpy()] + [outputs[s] for s in ("angry", "depressed", "old", "proud")],
+                 titles=["content", "angry", "depressed", "old", "proud"])
+
+# %% [markdown]
+# **Try it.** The explorer below runs the packaged model live: pick a content clip, a style and a method, and
+# compare the output with its content and style clips; the bars are the independent style classifier's
+# probabilities for the output. The cell after it calls the same function with fixed choices and prints them.
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+from mslib.explorers import explore_transfer, transfer_view
+explore_transfer("c00000", "old", "adain", methods=["adain", "identity", "copy_style"])
+
+# %%
+print(transfer_view("c00000", "old", "adain").summary())
 
 # %% [markdown]
 # ## 6. Dynamic and static noise: A Fig. 2

@@ -23,7 +23,6 @@ mslib.setup_notebook(seed=0)
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 from mslib import viz
 from mslib.checkpoints import course_path, read_checkpoint
@@ -640,10 +639,13 @@ for (c, s), o in zip(shown, outs):
 fig = viz.plot_strip(motions, n_frames=5, view="side", titles=titles)
 _ = fig
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html([shown[0][0]["joints"], shown[0][1]["joints"], outs[0]],
-                        titles=titles[:3], max_frames=40))
+viz.MotionViewer([shown[0][0]["joints"], shown[0][1]["joints"], outs[0]], titles=titles[:3])
 
 # %% [markdown]
 # ## 5. C's findings
@@ -748,7 +750,20 @@ print("head above pelvis (m):", [round(h, 3) for h in heights])
 
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html([strip[0], strip[-1]], titles=["w = 0 (depressed)", "w = 1 (proud)"], max_frames=40))
+viz.MotionViewer([strip[0], strip[-1]], titles=["w = 0 (depressed)", "w = 1 (proud)"])
+
+# %% [markdown]
+# **Try it.** Slide $w$ from one style code to the other (C Fig. 10–11) and watch the posture move; the bars are
+# the style classifier's probabilities. The cell after it prints the same function's numbers at fixed $w$.
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+from mslib.explorers import explore_interpolation, interpolation_view
+explore_interpolation("c00000", "depressed", "proud", 0.5)
+
+# %%
+for w in (0.0, 0.5, 1.0):
+    print(interpolation_view("c00000", "depressed", "proud", w).summary())
 
 # %% [markdown]
 # ### (d) An unseen style (C Fig. 3)

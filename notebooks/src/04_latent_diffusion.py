@@ -21,7 +21,6 @@ mslib.setup_notebook(seed=0)
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 # These models are small: one thread is faster than several (no synchronisation between cores), and it
 # makes every printed number independent of how many cores the machine has.
@@ -322,10 +321,27 @@ fig = show_scale(2.5)
 assert len(fig.axes) >= 1
 _ = fig
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html([c_item["joints"].numpy(), stylise(2.5), stylise(2.5, pairs_demo[1][1])],
-                        titles=["content", "→ old", "→ angry"], max_frames=40, view="side"))
+viz.MotionViewer([c_item["joints"].numpy(), stylise(2.5), stylise(2.5, pairs_demo[1][1])],
+                 titles=["content", "→ old", "→ angry"])
+
+# %% [markdown]
+# **Try it.** The same guidance scale λ on the 3-D viewer: each λ is sampled once (a few tenths of a second),
+# then cached. The cell after it prints the function's numbers at λ = 0 and at the preset's 2.5.
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+from mslib.explorers import explore_guidance, guidance_view
+explore_guidance("c00000", "angry", 2.5)
+
+# %%
+for lam in (0.0, 2.5):
+    print(guidance_view("c00000", "angry", lam).summary())
 
 # %% [markdown]
 # ## 7. Trajectory: learned vs copied

@@ -30,7 +30,6 @@ from mslib.notebook import load_findings
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 from mslib import viz
 from mslib.data.corpora import load_builtin
@@ -275,9 +274,26 @@ v_pos = [decode(v) for v in variants]
 fig = viz.plot_strip(v_pos, n_frames=5, row_labels=[f"old, prototype {k}" for k in range(K)])
 _ = fig
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html(v_pos, titles=[f"prototype {k}" for k in range(3)], max_frames=40, view="side"))
+viz.MotionViewer(v_pos, titles=[f"prototype {k}" for k in range(3)])
+
+# %% [markdown]
+# **Try it.** Pick a style and one of its prototypes (or the reference clip's own feature) as the guidance
+# target, and generate; the cell after it prints the same function's numbers for the three prototypes of "old".
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+from mslib.explorers import explore_prototypes, prototype_view
+explore_prototypes("old", 0)
+
+# %%
+for k in range(3):
+    print(prototype_view("old", k).summary())
 
 # %% [markdown]
 # The local prototypes give a second kind of variant: permute the style's local prototypes over the

@@ -19,7 +19,6 @@ mslib.setup_notebook(seed=0)
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 # The models are small: one thread is faster than several, and every printed number is then
 # independent of how many cores the machine has (as in notebook 04).
@@ -109,9 +108,27 @@ for t, m in zip(titles, motions):
 # %%
 _ = viz.plot_strip(motions, n_frames=5, view="side", titles=titles)
 
+# %% [markdown]
+# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
+# they touch the floor. (Without a running kernel, a still picture stands in for it.)
+
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html(motions[:2] + motions[2::2], titles=titles[:2] + titles[2::2], max_frames=40))
+viz.MotionViewer(motions[:2] + motions[2::2], titles=titles[:2] + titles[2::2])
+
+# %% [markdown]
+# **Try it.** Every method on a content clip and a style of your choice, side by side with both; the diffusion
+# methods take a few tenths of a second per choice and are cached. The cell after it prints each method's numbers
+# for one fixed choice.
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+from mslib.explorers import explore_transfer, transfer_view
+explore_transfer("c00000", "old", "mcm_ldm")
+
+# %%
+for m in METHODS[2:]:
+    print(transfer_view("c00000", "old", m).summary())
 
 # %% [markdown]
 # ## 4. What each paper claimed, and what this benchmark shows
