@@ -78,3 +78,29 @@ def test_transfer_explorer_changes_method_in_jupyterlab(tmp_path):
         assert shot.stat().st_size > 10_000
         errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
         assert not [e for e in errors if "mslib" in e["message"] or "viewer" in e["message"]], errors
+
+
+def test_notebook_02s_transfer_explorer_answers_in_jupyterlab(tmp_path):
+    """The workbook's own notebook 02, run top to bottom in JupyterLab: its explorer (adain → old) is switched to
+    the identity method, and the view and the bars follow (~60 s: the notebook's live training runs too)."""
+    pytest.importorskip("selenium", reason="selenium is not installed (it is in requirements.txt)")
+    pytest.importorskip("anywidget", reason="anywidget is in the notebooks extra")
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import Select, WebDriverWait
+    notebook = Path(__file__).resolve().parents[1] / "notebooks" / "02_adain_transfer.ipynb"
+    artifacts = Path(os.environ.get("MSLIB_ARTIFACTS") or tmp_path / "artifacts")
+    artifacts.mkdir(parents=True, exist_ok=True)
+    with notebook_in_lab(notebook, tmp_path, timeout=600) as driver:
+        WebDriverWait(driver, 600).until(lambda d: "adain" in _status(d))
+        WebDriverWait(driver, 60).until(lambda d: d.find_elements(By.CSS_SELECTOR, f"{BOX} .mslib-viewer-canvas"))
+        assert likely_styles(driver) == ["old"]
+        before = pixels(driver, f"{BOX} .mslib-viewer-canvas")
+        select = driver.find_element(By.CSS_SELECTOR, f"{BOX} .mslib-explorer-method select")
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", select)
+        Select(select).select_by_visible_text("identity")
+        WebDriverWait(driver, 60).until(lambda d: "identity" in _status(d))
+        canvas = f"{BOX} .mslib-viewer-canvas"
+        WebDriverWait(driver, 10).until(lambda d: pixels(d, canvas)["digest"] != before["digest"])
+        assert likely_styles(driver) != ["old"]  # the content walk is not read as old
+        shot = _screenshot(driver, artifacts / "notebook02_explorer_identity.png")
+        assert shot.stat().st_size > 10_000

@@ -22,7 +22,7 @@ pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER), reason="Debian'
 
 # JavaScript run in the page: how many canvas pixels are near each colour, and a digest of all of them
 COUNT_COLOURS = """
-const canvas = document.querySelector('.mslib-viewer-canvas');
+const canvas = document.querySelector(arguments[1]);
 const d = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
 const near = (i, c) => Math.abs(d[i] - c[0]) + Math.abs(d[i + 1] - c[1]) + Math.abs(d[i + 2] - c[2]) < 40;
 const colours = arguments[0], counts = Object.fromEntries(Object.keys(colours).map((k) => [k, 0]));
@@ -61,10 +61,11 @@ def frame(driver) -> int:
     return int(driver.execute_script("return document.querySelector('.mslib-viewer').dataset.frame"))
 
 
-def pixels(driver) -> dict:
+def pixels(driver, canvas: str = ".mslib-viewer-canvas") -> dict:
+    """Counts of the viewer's colours in the first canvas matching the CSS selector `canvas`, and a digest."""
     colours = {"left": rgb(viz.SIDE_COLOURS["left"]), "right": rgb(viz.SIDE_COLOURS["right"]),
                "contact": rgb(viz.viewer.CONTACT_COLOUR), "grid": [221, 221, 221]}
-    return driver.execute_script(COUNT_COLOURS, colours)
+    return driver.execute_script(COUNT_COLOURS, colours, canvas)
 
 
 def test_viewer_draws_orbits_zooms_and_plays_in_chromium(page, tmp_path):

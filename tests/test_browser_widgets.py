@@ -171,17 +171,22 @@ def test_lambda_slider_redraws_the_figure_in_a_real_browser(tmp_path):
 
 
 @contextmanager
-def notebook_in_lab(cells: list, workdir: Path, name: str = "explorer.ipynb", timeout: float = 180):
-    """A throwaway notebook of `cells` under `workdir`, opened in JupyterLab in headless Chromium with every cell
-    run; yields the driver. JupyterLab and the browser end with the block."""
+def notebook_in_lab(cells, workdir: Path, name: str = "explorer.ipynb", timeout: float = 180):
+    """A notebook under `workdir` — a throwaway one of `cells` (a list of code sources), or a copy of the workbook's
+    notebook when `cells` is its Path — opened in JupyterLab in headless Chromium with every cell run; yields the
+    driver. JupyterLab and the browser end with the block."""
     from selenium.webdriver.support.ui import WebDriverWait
     folder = workdir / "lab"
     folder.mkdir()
-    nb = {"cells": [{"cell_type": "code", "execution_count": None, "id": f"c{i}", "metadata": {}, "outputs": [],
-                     "source": source} for i, source in enumerate(cells)],
-          "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
-          "nbformat": 4, "nbformat_minor": 5}
-    (folder / name).write_text(json.dumps(nb), encoding="utf-8")
+    if isinstance(cells, Path):
+        name = cells.name
+        shutil.copy(cells, folder / name)
+    else:
+        nb = {"cells": [{"cell_type": "code", "execution_count": None, "id": f"c{i}", "metadata": {}, "outputs": [],
+                         "source": source} for i, source in enumerate(cells)],
+              "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
+              "nbformat": 4, "nbformat_minor": 5}
+        (folder / name).write_text(json.dumps(nb), encoding="utf-8")
     port, token = _free_port(), "mslib-explorer-test"
     lab = _start_lab(folder, port, token)
     try:
