@@ -101,9 +101,14 @@ def _run_all_cells(driver, wait) -> None:
 
 
 def _figure_src(driver):
+    """The slider figure's image source, or None while there is none (or it is being replaced)."""
+    from selenium.common.exceptions import StaleElementReferenceException
     from selenium.webdriver.common.by import By
     imgs = driver.find_elements(By.CSS_SELECTOR, ".mslib-slider-figure img")
-    return imgs[0].get_attribute("src") if imgs else None
+    try:
+        return imgs[0].get_attribute("src") if imgs else None
+    except StaleElementReferenceException:  # redrawn between finding and reading it
+        return None
 
 
 def move_slider_in_browser(notebook: Path, workdir: Path, artifacts: Path, timeout: float = 600.0) -> dict:
