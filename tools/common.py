@@ -15,7 +15,7 @@ import subprocess
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]  # the repository root
-DATA_DIR = ROOT / "notebooks" / "data"  # the stored tables the notebooks read
+from mslib.notebook import FINDINGS_DIR as DATA_DIR  # noqa: E402 (the stored tables the notebooks read)
 
 
 def update_json(path, sections: dict) -> Path:
