@@ -111,10 +111,21 @@ def _figure_src(driver):
         return None
 
 
+def nudge_slider(driver, css: str, key: str = "ARROW_RIGHT") -> None:
+    """Move the ipywidgets slider inside the element matching the CSS selector `css`: a click on its handle, then
+    the key (selenium's Keys name: ARROW_RIGHT one step right, HOME to the minimum); with continuous_update=False
+    the kernel hears of it once."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+    handle = driver.find_element(By.CSS_SELECTOR, f"{css} .noUi-handle")
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", handle)
+    handle.click()
+    handle.send_keys(getattr(Keys, key))
+
+
 def move_slider_in_browser(notebook: Path, workdir: Path, artifacts: Path, timeout: float = 600.0) -> dict:
     """Run `notebook` in JupyterLab in headless Chromium, move its slider once; returns what was seen."""
     from selenium.webdriver.common.by import By
-    from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import WebDriverWait
     folder = workdir / "lab"
     folder.mkdir()
@@ -134,10 +145,7 @@ def move_slider_in_browser(notebook: Path, workdir: Path, artifacts: Path, timeo
                                   if "*" in p.text])
         before = _figure_src(driver)
         readout_before = driver.find_element(By.CSS_SELECTOR, ".mslib-slider-figure .widget-readout").text
-        handle = driver.find_element(By.CSS_SELECTOR, ".mslib-slider-figure .noUi-handle")
-        driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", handle)
-        handle.click()
-        handle.send_keys(Keys.ARROW_RIGHT)
+        nudge_slider(driver, ".mslib-slider-figure")
         WebDriverWait(driver, 120).until(lambda d: _figure_src(d) not in (None, before))
         after = _figure_src(driver)
         # the screenshot shows the slider and the redrawn figure (not the cell above), without the news toast
