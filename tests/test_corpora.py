@@ -222,12 +222,17 @@ def test_styles_are_separable_from_simple_statistics(medium):
     clf.fit(X[split == "train"], style[split == "train"])
     accuracy = (clf.predict(X[split == "test"]) == style[split == "test"]).mean()
     assert accuracy >= 0.9, accuracy
-    # sub-styles within a style: cross-validated over takes (no take on both sides)
+    # sub-styles within a style: cross-validated over takes (no take on both sides). The fitted sub-styles are
+    # thirds of real takes along their first principal component, closer than hand-made ones, so each style's
+    # bar is chance + 0.1 and the bar of their mean chance + 0.25.
     take = np.array([r["take"] for r in rows])
     sub = np.array([r["substyle"] for r in rows])
+    means = []
     for s in STYLES:
         m = style == s
         chance = 1.0 / len(set(sub[m]))
         scores = cross_val_score(make_pipeline(StandardScaler(), LogisticRegression(max_iter=2000)),
                                  X[m], sub[m], groups=take[m], cv=GroupKFold(3))
-        assert scores.mean() >= chance + 0.2, (s, scores.mean(), chance)
+        assert scores.mean() >= chance + 0.1, (s, scores.mean(), chance)
+        means.append(scores.mean() - chance)
+    assert np.mean(means) >= 0.25, means

@@ -219,3 +219,18 @@ def test_real_xia_subset(shared_data, tmp_path, tiny):
     report = R.realism_report(tmp_path / "train", tmp_path / "grid", builtin=built, progress=False)
     assert report["real_to_builtin"]["real_test_windows"]["accuracy"] >= 75  # old vs neutral is easy on real data
     assert report["builtin_to_real"]["real_test_takes"]["n"] == 4
+
+
+def test_the_stored_report_is_of_this_generator_and_names_no_machine_paths():
+    """notebooks/data/00_realism.json (notebook 00 reads it): remade whenever the generator changes."""
+    from mslib.data.corpora import source_fingerprint
+    from mslib.data.synth import GENERATOR_VERSION
+    from mslib.notebook import FINDINGS_DIR
+    text = (FINDINGS_DIR / "00_realism.json").read_text(encoding="utf-8")
+    report = json.loads(text)
+    assert report["builtin"]["fingerprint"] == source_fingerprint(), \
+        "the generator changed since the report was made: python -m mslib data realism … --out notebooks/data/00_realism.json"
+    assert report["builtin"]["generator_version"] == GENERATOR_VERSION
+    assert "/work/" not in text and "/tmp/" not in text and "/home/" not in text
+    assert report["command"].startswith("python -m mslib data realism --real ")
+    assert {"real_to_builtin", "builtin_to_real", "cues"} <= set(report)

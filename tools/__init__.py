@@ -8,6 +8,7 @@
     contrastive_analysis   C Fig. 2, Table 1, Fig. 10–11, Fig. 3 from short runs → 03_contrastive_findings.json
     contrastive_findings   C's recipe variants, seeds and strengths on val pairs → 03_contrastive_recipes.json
     clusterstyle_findings  D Fig. 5 (pose sets) and Table 3 (ablations) → 06_clusterstyle_findings.json
+    fit_styles             the generator's body and style means fitted to the Xia train split → mslib/data/fitted_styles.json
     build_notebooks        notebooks/src/*.py → executed notebooks/*.ipynb (the outputs nbval checks)
     update_docs            the measured tables in README.md and notebooks/INSTRUCTORS.md
 

@@ -2,8 +2,10 @@
 
 The body is the HumanML3D 22-joint tree with the reference bone lengths (left and right averaged),
 but with a *natural* rest geometry instead of the template's axis-aligned directions: hips below
-and beside the pelvis, collars rising to the shoulders, feet pitched down so the ankle sits above
-the toe — the geometry real HumanML3D motions have. With all local rotations at identity it stands
+and beside the pelvis, feet pitched down so the ankle sits above the toe — the geometry real
+HumanML3D motions have — and the trunk's bones (hips, spine, neck, head, collars, shoulders)
+pointing as they do on the real Xia actor registered onto the template (fitted by
+tools/fit_styles.py: their median directions in neutral walking, the trunk turned upright). With all local rotations at identity it stands
 upright, arms hanging, facing +Z (left is +X). Bone lengths are what a per-clip body scales.
 
 Joint angles are stored per frame and joint as (pitch, yaw, roll) in degrees and composed as
@@ -16,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..motion.skeleton import JOINT_NAMES, PARENTS, REFERENCE_BONE_LENGTHS, MIRROR, Skeleton
+from .fitted import load_fitted
 
 # natural rest directions (joint from parent), from the geometry of real HumanML3D poses
 _DIRECTIONS = {
@@ -27,8 +30,10 @@ _DIRECTIONS = {
     16: (0.985, -0.07, -0.115), 17: (-0.985, -0.07, -0.115), 18: (0.0, -1.0, 0.0),
     19: (0.0, -1.0, 0.0), 20: (0.0, -1.0, 0.0), 21: (0.0, -1.0, 0.0),
 }
+# the trunk's bones as the real actor's registered skeleton has them (fitted_styles.json, "body")
+FITTED_DIRECTIONS = {int(j): tuple(d) for j, d in load_fitted("body").get("directions", {}).items()}
 REST_DIRECTIONS = np.zeros((22, 3))
-for _j, _d in _DIRECTIONS.items():
+for _j, _d in {**_DIRECTIONS, **FITTED_DIRECTIONS}.items():
     REST_DIRECTIONS[_j] = np.asarray(_d) / np.linalg.norm(_d)
 _full = np.concatenate([[0.0], REFERENCE_BONE_LENGTHS])
 SYMMETRIC_LENGTHS = 0.5 * (_full + _full[list(MIRROR)])  # left and right averaged, joints 0..21

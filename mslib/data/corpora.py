@@ -54,10 +54,10 @@ _TAKE_INDEX = 1_000_000  # takes draw from other generator streams than content 
 
 # ---------------------------------------------------------------- where
 def source_fingerprint() -> str:
-    """8 hex digits hashing the source of every module the built data depends on."""
+    """8 hex digits hashing the source of every module the built data depends on (and the fitted styles)."""
     import hashlib
     here = Path(__file__).resolve().parent
-    files = sorted(here.glob("*.py")) + [here.parent / "motion" / n for n in
+    files = sorted(here.glob("*.py")) + sorted(here.glob("*.json")) + [here.parent / "motion" / n for n in
                                          ("features.py", "skeleton.py", "rotations.py", "bvh.py")]
     h = hashlib.sha256()
     for f in files:

@@ -10,7 +10,9 @@ when flat, positive while it rolls over the toe joint (heel up, the toe is the p
    body (of the feet down, the one that landed last) must not move in the world at its pivot, so
    the root moves by minus the pivot's displacement, and its height puts the pivot on y = 0.
    Without contact (run, jump) the root keeps the mean stance velocity and follows a ballistic
-   arc (gravity 9.81 m/s²) between contacts.
+   arc (gravity 9.81 m/s²) between contacts. Derived this way the root changes velocity abruptly
+   at every change of carrying foot, which real capture does not do (its pelvis jerk is a quarter
+   of that), so the path is then low-passed (`ROOT_SMOOTHING`); step 2 re-plants the feet exactly.
 2. `lock_feet` — every contact interval gets an anchor (where the flat foot's toe is, on the
    floor) and a heading; the foot's orientation follows the pitch profile about its pivot, and an
    analytic two-bone IK (thigh, shank) puts the ankle where that needs it, exactly. Outside
@@ -33,6 +35,7 @@ from .body import LEG
 
 GRAVITY = 9.81
 REACH = 0.995  # a planted leg straightens to at most this fraction of thigh + shank
+ROOT_SMOOTHING = (0.10, 0.04)  # s: Gaussian σ of the root path across (x, z) and up (y)
 
 
 def foot_yaw(G_ankle) -> np.ndarray:
@@ -158,6 +161,9 @@ def anchor_root(parents, offsets, R, contacts, foot_pitch, fps: float, segments)
         low = np.where(lead, pivot[a:b, :, 1], np.inf).min(1)
         has = c.any(1)
         root[a:b, 1] = _ballistic_fill(np.where(has, -low, 0.0), has, fps)
+        across, up = ROOT_SMOOTHING
+        root[a:b, [0, 2]] = gaussian_filter1d(root[a:b, [0, 2]], across * fps, axis=0, mode="nearest")
+        root[a:b, 1] = gaussian_filter1d(root[a:b, 1], up * fps, mode="nearest")
     return root, rel, G
 
 

@@ -1,10 +1,19 @@
 """Style and content tables of the built-in stylized mocap.
 
 A *style* is a distribution over a flat set of motion parameters (PARAMS): posture angles in degrees,
-amplitude and tempo multipliers, and dynamics. Every style has a mean per parameter (NEUTRAL where
-it does not say otherwise) and 2–4 named *sub-styles* that override some of those means — the
-intra-style diversity that paper D's prototypes model. A take draws its parameters from a Gaussian
-around the (sub-)style mean with the per-parameter spread of PARAMS.
+amplitude and tempo multipliers, and dynamics. Every style has a mean per parameter and three named
+*sub-styles* that override some of those means — the intra-style diversity that paper D's
+prototypes model. A take draws its parameters from a Gaussian around the (sub-)style mean with the
+per-parameter spread of PARAMS.
+
+Where the means come from. STYLE_TABLE below is written by hand: what each style does, in the
+generator's terms. The means of the parameters that real walking shows most (posture, arm
+carriage and swing, stride, knee lift, cadence, bounce, sway) are then *fitted to real motion
+capture* — the Xia train split — by `tools/fit_styles.py`, which stores them in
+`fitted_styles.json` beside this file with the command that made them and the digest of what it
+read. The fitted values replace the hand-written ones; the sub-styles are the fitted ones too (the
+real takes of a style split into thirds along the axis on which they differ most, each third named
+after its most distinctive cue). Without that file the hand-written table is used as it is.
 
 A *content* is what the body does (walk, run, punch, ...): its kind picks the generator (gait or
 action), and its own random draws (speed, curvature, hand, ...) happen in `sample_content`.
@@ -14,6 +23,8 @@ slowly"), the style corpus also names the style ("an old person walks forward").
 from __future__ import annotations
 
 import numpy as np
+
+from .fitted import FITTED_FILE, load_fitted
 
 # name → (neutral value, per-take spread, lower bound, upper bound, meaning)
 PARAMS = {
@@ -51,7 +62,7 @@ PARAMS = {
     "duty": (0.0, 0.008, -0.25, 0.1, "change of the stance fraction of the gait cycle"),
     "limp": (0.0, 0.0, 0.0, 0.3, "left/right asymmetry of the gait"),
 }
-NEUTRAL = {k: v[0] for k, v in PARAMS.items()}
+HAND_NEUTRAL = {k: v[0] for k, v in PARAMS.items()}
 
 # style → (mean overrides, {sub-style: overrides on top of the style}, caption adjective, article)
 STYLE_TABLE = {
@@ -127,7 +138,21 @@ STYLE_TABLE = {
         "strutting", "a"),
 }
 STYLES = tuple(STYLE_TABLE)
-SUBSTYLES = {s: tuple(STYLE_TABLE[s][1]) for s in STYLES}
+
+
+def _fitted_styles() -> dict:
+    """{style: {"params": {...}, "substyles": {name: {"params": {...}}}}} of the fitted table, or {}."""
+    table = load_fitted("styles")
+    unknown = sorted(set(table) - set(STYLES)) + sorted(
+        {k for e in table.values() for p in [e["params"], *(v["params"] for v in e["substyles"].values())]
+         for k in p} - set(PARAMS))
+    if unknown:
+        raise ValueError(f"{FITTED_FILE}: unknown styles or parameters {unknown}; refit with tools/fit_styles.py")
+    return table
+
+
+FITTED = _fitted_styles()
+SUBSTYLES = {s: tuple(FITTED[s]["substyles"]) if s in FITTED else tuple(STYLE_TABLE[s][1]) for s in STYLES}
 
 # content → (kind, caption template); {adv}, {side}, {dir} are filled by sample_content
 CONTENT_TABLE = {
@@ -151,16 +176,32 @@ def _check(name, value, allowed):
         raise ValueError(f"{name}: must be one of {list(allowed)}, got {value!r}")
 
 
-def style_mean(style: str, substyle: str | None = None) -> dict:
-    """The parameter means of a style (and sub-style); unknown names raise ValueError."""
+def hand_mean(style: str, substyle: str | None = None) -> dict:
+    """The hand-written parameter means of a style (and one of its hand-written sub-styles)."""
     _check("style", style, STYLES)
     base, subs, _, _ = STYLE_TABLE[style]
-    out = dict(NEUTRAL)
+    out = dict(HAND_NEUTRAL)
     out.update(base)
     if substyle is not None:
         _check("substyle", substyle, subs)
         out.update(subs[substyle])
     return {k: float(v) for k, v in out.items()}
+
+
+def style_mean(style: str, substyle: str | None = None) -> dict:
+    """The parameter means of a style (and sub-style): fitted where fitted, else hand-written."""
+    _check("style", style, STYLES)
+    if style not in FITTED:
+        return hand_mean(style, substyle)
+    out = hand_mean(style)
+    out.update(FITTED[style]["params"])
+    if substyle is not None:
+        _check("substyle", substyle, SUBSTYLES[style])
+        out.update(FITTED[style]["substyles"][substyle]["params"])
+    return {k: float(v) for k, v in out.items()}
+
+
+NEUTRAL = style_mean("neutral")
 
 
 def sample_style(rng: np.random.Generator, style: str, substyle: str | None = None,
@@ -171,8 +212,8 @@ def sample_style(rng: np.random.Generator, style: str, substyle: str | None = No
     mean = style_mean(style, substyle)
     noise = rng.standard_normal(len(PARAMS))
     out = {}
-    for (k, (neutral, sd, lo, hi, _)), z in zip(PARAMS.items(), noise.tolist()):
-        v = neutral + intensity * (mean[k] - neutral) + spread * sd * z
+    for (k, (_, sd, lo, hi, _)), z in zip(PARAMS.items(), noise.tolist()):
+        v = NEUTRAL[k] + intensity * (mean[k] - NEUTRAL[k]) + spread * sd * z
         out[k] = min(max(v, lo), hi)
     return out
 

@@ -22,7 +22,7 @@ from . import actions, gait, kin, styles
 from .body import FOOT_CONTACT_JOINTS, leg_length, random_body, rot_y
 from .footlock import anchor_root, lock_feet
 
-GENERATOR_VERSION = 2  # bump on any change to the generated numbers: cached corpora are rebuilt
+GENERATOR_VERSION = 3  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
 _PLANNERS = {"gait": gait.locomotion, "stand": actions.stand, "punch": actions.punch,
              "kick": actions.kick, "wave": actions.wave, "jump": actions.jump}

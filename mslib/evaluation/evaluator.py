@@ -3,8 +3,11 @@
 Input per frame: the root height and the 21 joints relative to the root's ground point in the
 facing frame (the HumanML3D "ric" block, i.e. positions with the root trajectory removed), 64-d.
 A temporal conv net classifies 32-frame windows; a long motion is scored by averaging its windows'
-logits, and its features (the penultimate layer, for FMD) by averaging theirs. No method trains on
-these classifiers or their features.
+logits, and its features (the penultimate layer, for FMD) by averaging theirs; a motion shorter
+than a window is padded by holding its last frame. Real takes are often that short (most Xia takes
+last about a second), so in training a share of the windows (SHORT_SHARE) is cut shorter and padded
+the same way: otherwise the held frames are something the classifier never saw. No method trains
+on these classifiers or their features.
 """
 from __future__ import annotations
 
@@ -19,6 +22,7 @@ from ..motion.features import check_positions, root_relative
 
 WINDOW = 32
 INPUT_DIM = 64
+SHORT_SHARE, SHORT_MIN = 0.5, 12  # training windows cut to 12–31 frames and padded, and how many
 
 
 def classifier_input(positions) -> np.ndarray:
@@ -105,25 +109,30 @@ class MotionClassifier(nn.Module):
 
 
 class WindowDataset(torch.utils.data.Dataset):
-    """Random 32-frame windows of labelled motions (one window per clip per epoch)."""
+    """Random 32-frame windows of labelled motions (one window per clip per epoch); a `short` share of
+    them cut to SHORT_MIN–31 frames and padded by holding the last frame, as `score` pads a short motion."""
 
-    def __init__(self, motions, labels, seed: int = 0, length: int = WINDOW):
+    def __init__(self, motions, labels, seed: int = 0, length: int = WINDOW, short: float = 0.0):
         if len(motions) != len(labels) or not len(motions):
             raise ValueError(f"motions/labels: need the same non-zero number, got {len(motions)} and {len(labels)}")
+        if not 0.0 <= short <= 1.0:
+            raise ValueError(f"short: a share in [0, 1], got {short}")
         self.inputs = [classifier_input(m).astype(np.float32) for m in motions]
         self.labels = [int(y) for y in labels]
-        self.length, self.rng = length, np.random.default_rng(seed)
+        self.length, self.short, self.rng = length, short, np.random.default_rng(seed)
 
     def __len__(self):
         return len(self.inputs)
 
     def __getitem__(self, i):
         x = self.inputs[i]
-        if len(x) <= self.length:
-            w = windows_of(x, self.length)[0]
-        else:
-            s = int(self.rng.integers(0, len(x) - self.length + 1))
-            w = x[s:s + self.length]
+        n = self.length
+        if self.short and self.rng.random() < self.short:
+            n = int(self.rng.integers(min(SHORT_MIN, self.length), self.length))
+        if len(x) > n:
+            s = int(self.rng.integers(0, len(x) - n + 1))
+            x = x[s:s + n]
+        w = windows_of(x, self.length)[0]
         return torch.from_numpy(np.ascontiguousarray(w)), torch.tensor(self.labels[i])
 
     def stats(self) -> tuple[torch.Tensor, torch.Tensor]:
@@ -167,7 +176,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     unknown = sorted(set(train_y + val_y) - set(index))
     if unknown:
         raise ValueError(f"{folder}: labels {unknown} are not among the classes {classes}")
-    train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed)
+    train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed, short=SHORT_SHARE)
     val_set = WindowDataset(val_j, [index[y] for y in val_y], seed=seed + 1)
     torch.manual_seed(seed)
     model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes)), classes)

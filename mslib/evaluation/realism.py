@@ -283,16 +283,16 @@ def realism_report(real, grid=None, builtin=None, seed: int = 0, evaluator=None,
 
 def _provenance(folder) -> dict:
     meta = read_meta(folder)
-    return {"folder": str(folder), "digest": folder_digest(folder), "made_by": meta.get("source"),
+    return {"folder": Path(folder).name, "digest": folder_digest(folder), "made_by": meta.get("source"),
             "dialect": meta.get("dialect")}
 
 
 def command_line(real, grid=None, out=None, plot=None, force=False) -> str:
-    """The command that makes a report (stored with it)."""
-    parts = ["python -m mslib data realism", f"--real {real}"]
-    parts += [f"--grid {grid}"] if grid else []
+    """The command that makes a report (stored with it; folders by name: where they are is the user's)."""
+    parts = ["python -m mslib data realism", f"--real {Path(real).name}"]
+    parts += [f"--grid {Path(grid).name}"] if grid else []
     parts += [f"--out {out}"] if out else []
-    parts += [f"--plot {plot}"] if plot else []
+    parts += [f"--plot {Path(plot).name}"] if plot else []
     return " ".join(parts + (["--force"] if force else []))
 
 
@@ -313,7 +313,7 @@ def _score(s) -> str:
 
 def format_report(report: dict) -> str:
     """The cue table (real/built-in per style) and the two cross scores, as text."""
-    cues, rb, br = report["cues"], report["real_to_builtin"], report["builtin_to_real"]
+    cues = report["cues"]
     styles = cues["styles"]
     width = max(13, *(len(s) + 2 for s in styles))
     b = report["builtin"]
@@ -328,8 +328,15 @@ def format_report(report: dict) -> str:
     lines.append(f"{'windows':<24}" + "".join(f"{str(cues['table'][s]['n_real']) + '/' + str(cues['table'][s]['n_builtin']):>{width}}"
                                          for s in styles))
     lines.append(f"{'gap (real sd)':<24}" + "".join(f"{_pair('', cues['table'][s]['gap_sd']):>{width}}" for s in styles))
+    lines += ["", format_cross_scores(report)]
+    return "\n".join(lines)
+
+
+def format_cross_scores(report: dict) -> str:
+    """The two cross scores (real → built-in, built-in → real) with their per-style readings, as text."""
+    rb, br = report["real_to_builtin"], report["builtin_to_real"]
     chance = rb.get("real_test_windows", {}).get("chance")
-    lines += ["", f"real → built-in: logistic regression (C={rb['C']}) fitted on {rb['train']['windows']} real train "
+    lines = [f"real → built-in: logistic regression (C={rb['C']}) fitted on {rb['train']['windows']} real train "
               f"windows of {rb['window_frames']} frames; chance {chance} %",
               f"  real test windows {_score(rb.get('real_test_windows'))}, takes {_score(rb.get('real_test_takes'))}",
               f"  built-in style test windows {_score(rb.get('builtin_test_windows'))} "
@@ -344,15 +351,11 @@ def format_report(report: dict) -> str:
     return "\n".join(lines)
 
 
-def plot_report(report: dict, path, force: bool = False) -> Path:
+def realism_figure(report: dict, dpi: int = 80):
     """One panel per cue (real ● vs built-in ■ per style, ± one spread) and the two cross scores."""
-    import io
-    import matplotlib
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    path = check_writable(path, force, "--plot")
     cues, styles = report["cues"], report["cues"]["styles"]
-    fig, axes = plt.subplots(4, 4, figsize=(16, 13))
+    fig, axes = plt.subplots(4, 4, figsize=(13, 10.5))
     x = np.arange(len(styles))
     for ax, c in zip(axes.flat, CUES):
         for dx, who, mark, colour in ((-0.15, "real", "o", "tab:blue"), (0.15, "builtin", "s", "tab:orange")):
@@ -398,6 +401,18 @@ def plot_report(report: dict, path, force: bool = False) -> Path:
             va="top", fontsize=9, family="monospace")
     fig.suptitle("Realism report: real motion capture vs the built-in styles", fontsize=13)
     fig.tight_layout()
+    fig.set_dpi(dpi)
+    return fig
+
+
+def plot_report(report: dict, path, force: bool = False) -> Path:
+    """The realism figure saved as a PNG, atomically; refuses an existing file unless `force`."""
+    import io
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    path = check_writable(path, force, "--plot")
+    fig = realism_figure(report)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=80)
     plt.close(fig)
