@@ -22,7 +22,12 @@ from mslib.data.joint_maps import DIALECTS
 from mslib.data.retarget import cut_windows, register_bvh
 from mslib.motion.features import encode
 
-XIA_CONTENTS = {"01": "walk", "13": "run", "16": "jump", "18": "punch", "22": "kick"}
+# Xia content ids (Aberman et al.'s file names) → the action: 01–12 walks (straight and turning), 13–15 runs,
+# 16–17 jumps, 18–21 punches, 22–23 kicks, 24–28 transitions between them
+XIA_CONTENTS = {f"{i:02d}": name for name, ids in (("walk", range(1, 13)), ("run", range(13, 16)),
+                                                   ("jump", (16, 17)), ("punch", range(18, 22)),
+                                                   ("kick", (22, 23)), ("transition", range(24, 29)))
+                for i in ids}
 XIA_RULE = r"(?P<style>[a-z]+)_(?P<content>\d+)_(?P<take>\d+)"
 
 

@@ -124,8 +124,16 @@ def _train(args) -> int:
 def _bench(args) -> int:
     from .evaluation.bench import Evaluator, format_table, known_methods, load_pairs, run_bench
     methods = known_methods() if args.method == "all" else [m.strip() for m in args.method.split(",") if m.strip()]
-    pairs = load_pairs(args.seed, args.pairs, args.content, args.style)
-    evaluator = Evaluator()
+    if args.real_style:
+        from .evaluation.real_pairs import real_pairs
+        if args.content or args.style:
+            raise ValueError("--real-style: real pairs take their contents from --real-content, not --content/--style")
+        pairs = real_pairs(args.real_style, args.real_content, args.pairs, args.seed)
+    elif args.real_content:
+        raise ValueError("--real-content: needs --real-style DIR (the real takes whose styles the contents receive)")
+    else:
+        pairs = load_pairs(args.seed, args.pairs or 200, args.content, args.style)
+    evaluator = Evaluator(args.evaluator_content, args.evaluator_style)
     rows = [run_bench(m, seed=args.seed, pairs=pairs, device=args.device, evaluator=evaluator,
                       progress=not args.json) for m in methods]
     if args.json:
@@ -208,9 +216,18 @@ def build_parser() -> argparse.ArgumentParser:
     be = sub.add_parser("bench", help="run a method over held-out pairs and score it")
     be.add_argument("--method", required=True, help="a method, several joined by commas, or 'all'")
     be.add_argument("--seed", type=int, default=0, help="which draw of pairs")
-    be.add_argument("--pairs", type=int, default=200)
+    be.add_argument("--pairs", type=int, default=None, help="how many pairs (built-in: 200; real: all of them)")
     be.add_argument("--content", default=None, metavar="DIR")
     be.add_argument("--style", default=None, metavar="DIR")
+    be.add_argument("--real-style", default=None, metavar="DIR",
+                    help="real pairs: every take of this folder is a style, its neutral takes are contents "
+                         "(e.g. the Xia test grid from data_prep.bvh --labels xia; see data_prep/README.md)")
+    be.add_argument("--real-content", nargs="*", default=[], metavar="FILE[=CONTENT]",
+                    help="real pairs: more content motions (.npy 263-d or T×22×3, .bvh), CONTENT their action")
+    be.add_argument("--evaluator-content", default=None, metavar="FILE",
+                    help="judge with this content classifier (default: the packaged one)")
+    be.add_argument("--evaluator-style", default=None, metavar="FILE",
+                    help="judge with this style classifier (default: the packaged one)")
     be.add_argument("--device", default="cpu")
     be.add_argument("--json", action="store_true", help="one JSON line per method")
     be.add_argument("--markdown", action="store_true", help="print a Markdown table (the README's)")

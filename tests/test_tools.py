@@ -112,6 +112,12 @@ def test_score_outputs_of_identity_keep_the_content():
         common.score_outputs([c["features"] for c, _ in pairs], pairs, ev)  # features, not positions
 
 
+def test_recorded_command_leaves_out_scratch_folders():
+    argv = ["--steps", "3000", "--workdir", "/tmp/x", "--only", "full", "--keep=/tmp/y"]
+    assert common.recorded_command("mcm_ldm_ablations", argv) == "python tools/mcm_ldm_ablations.py --steps 3000 --only full"
+    assert common.recorded_command("t", []) == "python tools/t.py"
+
+
 def test_current_commit(monkeypatch, tmp_path):
     commit = common.current_commit()
     assert commit == "unknown" or re.fullmatch(r"[0-9a-f]{7,40}", commit)

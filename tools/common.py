@@ -55,6 +55,20 @@ def score_outputs(positions_list, pairs, evaluator=None) -> dict:
     return {k: float(v) for k, v in evaluate(outputs, pairs, evaluator or Evaluator()).items()}
 
 
+def recorded_command(tool: str, argv, scratch=("--workdir", "--keep")) -> str:
+    """`python tools/TOOL.py ARGS` as a stored row records it: without the options that only name a scratch
+    folder of this machine (a reader's clone has no such path; the results do not depend on it)."""
+    args, skip = [], False
+    for a in argv:
+        if skip:
+            skip = False
+        elif a in scratch:
+            skip = True
+        elif not a.startswith(tuple(f"{o}=" for o in scratch)):
+            args.append(a)
+    return " ".join([f"python tools/{tool}.py", *args])
+
+
 def current_commit() -> str:
     """`git rev-parse --short HEAD` of ROOT (a stored row's provenance), or "unknown" outside a git checkout."""
     try:

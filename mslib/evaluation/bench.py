@@ -136,22 +136,33 @@ def by_style(outputs, pairs, evaluator: Evaluator) -> list:
     return rows
 
 
-def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu", pairs=None,
-              evaluator: Evaluator | None = None, progress: bool = False) -> dict:
-    """Transfer every pair with `method`, time it, and score the outputs; returns the §8 JSON row."""
+def transfer_pairs(method: str, pairs, device: str = "cpu", progress: bool = False) -> tuple[list, float]:
+    """Every pair through `method`: the output positions (one (T−1, 22, 3) array per pair) and the seconds
+    spent in the method (loading excluded)."""
     from tqdm.auto import tqdm
     transfer = get_method(method, device)
-    pairs = load_pairs(seed, n_pairs) if pairs is None else pairs
-    evaluator = evaluator or Evaluator()
     outputs, seconds = [], 0.0
     for content, style in tqdm(pairs, desc=method, disable=not progress):
         t0 = time.perf_counter()
         out = positions(transfer(content, style))
         seconds += time.perf_counter() - t0
         outputs.append(np.asarray(out, np.float64))
+    return outputs, seconds
+
+
+def bench_row(method: str, seed: int, outputs, pairs, evaluator: Evaluator, seconds: float) -> dict:
+    """The §8 JSON row of a method's outputs on its pairs."""
     row = {"method": method, "seed": seed, "pairs": len(pairs), **evaluate(outputs, pairs, evaluator),
            "ms_per_clip": 1000.0 * seconds / max(len(pairs), 1)}
     return {k: row[k] for k in JSON_KEYS}
+
+
+def run_bench(method: str, seed: int = 0, n_pairs: int = 200, device: str = "cpu", pairs=None,
+              evaluator: Evaluator | None = None, progress: bool = False) -> dict:
+    """Transfer every pair with `method`, time it, and score the outputs; returns the §8 JSON row."""
+    pairs = load_pairs(seed, n_pairs) if pairs is None else pairs
+    outputs, seconds = transfer_pairs(method, pairs, device, progress)
+    return bench_row(method, seed, outputs, pairs, evaluator or Evaluator(), seconds)
 
 
 def format_table(rows: list, notebook: bool = False, markdown: bool = False) -> str:

@@ -149,10 +149,10 @@ PRESETS = {  # steps of the one training loop (mslib.training) per classifier
 NAMES = {"content": "evaluator_content", "style": "evaluator_style"}
 
 
-def _load_split(folder, split: str, label: str):
-    """Joint arrays and label names of one split of a dataset folder."""
+def _load_split(folder, split: str | None, label: str):
+    """Joint arrays and label names of one split of a dataset folder (split None: every clip)."""
     from ..data.dataset_folder import read_labels
-    rows = [r for r in read_labels(folder) if r["split"] == split and r.get(label)]
+    rows = [r for r in read_labels(folder) if (split is None or r["split"] == split) and r.get(label)]
     if not rows:
         raise ValueError(f"{folder}: no {split} clips with a {label!r} label")
     joints = [np.load(Path(folder) / "joints" / f"{r['clip_id']}.npy") for r in rows]
@@ -201,8 +201,8 @@ def load_classifier(kind: str, path=None) -> MotionClassifier:
 
 
 @torch.no_grad()
-def test_accuracy(model: MotionClassifier, folder, split: str = "test") -> float:
-    """Top-1 accuracy (%) on a split of a dataset folder, whole clips (window-averaged)."""
+def test_accuracy(model: MotionClassifier, folder, split: str | None = "test") -> float:
+    """Top-1 accuracy (%) on a split of a dataset folder (None: all of it), whole clips (window-averaged)."""
     joints, names = _load_split(folder, split, model.cfg.kind)
     logits, _ = model.score(joints)
     pred = [model.classes[i] for i in logits.argmax(-1)]

@@ -40,7 +40,8 @@ from .cues import CUE_GROUPS, CUES, FPS, UNITS, body_frame, cue_table, facing_ya
 
 CUE_WINDOW, CLASSIFIER_WINDOW, HOP = 24, 16, 8  # frames at 20 fps; windows start every HOP frames
 EVALUATOR_WINDOW, EVALUATOR_OVERLAP = 32, 8  # the evaluator's windows (A §4.1, as data_prep --windows cuts them)
-WALKS = {"walk"} | {f"{i:02d}" for i in range(1, 13)}  # Xia contents 01–12 are walks (data_prep names only 01)
+# walks: "walk", and the raw Xia ids 01–12 of folders converted before data_prep named every Xia content
+WALKS = {"walk"} | {f"{i:02d}" for i in range(1, 13)}
 C_CHOICES = (0.01, 0.1, 1.0, 10.0)  # inverse regularisation strengths tried by cross-validation
 DIGITS = 4  # significant digits stored
 
