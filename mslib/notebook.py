@@ -53,3 +53,13 @@ def load_findings(name: str, required: bool = True) -> dict:
             return {}
         raise ValueError(f"{path}: no stored findings; the tool that writes them is named in the notebook")
     return json.loads(path.read_text())
+
+
+def demo_style(by_style_rows) -> str:
+    """The demo pairs' style: the non-neutral style whose transfers the evaluator recognised most often on
+    *validation* pairs (rows as `bench.by_style` gives them; a tie goes to the first name), so a picture shows
+    a style the method does move — chosen on val, never on the pair it is shown on."""
+    rows = [r for r in by_style_rows if r["style"] != "neutral"]
+    if not rows:
+        raise ValueError("by_style_rows: no non-neutral style to choose from")
+    return max(sorted(rows, key=lambda r: r["style"]), key=lambda r: r["sra"])["style"]

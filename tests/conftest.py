@@ -12,10 +12,3 @@ def shared_data() -> Path:
     if not SHARED_DATA.is_dir():
         pytest.skip(f"real motion data not found at {SHARED_DATA} (only developers and CI have ../shared)")
     return SHARED_DATA
-
-# A packaged method checkpoint trained on the built-in corpora from before their styles were fitted to real
-# capture ([real-styles]): on the refitted corpora and under the retrained evaluator it misses a bar it met.
-# [real-methods] retrains every checkpoint; these marks are strict, so a retrained one that passes fails
-# loudly until its mark is removed.
-TRAINED_ON_OLD_CORPORA = pytest.mark.xfail(
-    strict=True, reason="checkpoint trained on the corpora before the fitted styles; retrained in [real-methods]")

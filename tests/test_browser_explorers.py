@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 
+from mslib.notebook import demo_style, load_findings
 from tests.test_browser_viewer import pixels
 from tests.test_browser_widgets import CHROMEDRIVER, CHROMIUM, notebook_in_lab, nudge_slider
 
@@ -28,9 +29,11 @@ except ImportError:  # the tests skip without selenium
 pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER), reason="Debian's chromium and chromium-driver "
                                 "are not installed (apt-get install chromium chromium-driver; .ci/run does this)")
 
-CELL = """\
+# notebook 02's demo style: the one the packaged stage 1 moves most reliably on val pairs (mslib.notebook.demo_style)
+DEMO = demo_style(load_findings("02_adain_variants")["strength"]["by_style"])
+CELL = f"""\
 from mslib.explorers import explore_transfer
-explore_transfer("c00000", "old", "identity")"""
+explore_transfer("c00000", "{DEMO}", "identity")"""
 BOX = ".jp-OutputArea .mslib-explorer-transfer"
 
 
@@ -86,7 +89,7 @@ def test_transfer_explorer_changes_method_in_jupyterlab(tmp_path):
         WebDriverWait(driver, 10).until(lambda d: pixels(d)["digest"] != before["digest"])
         after = pixels(driver)
         assert min(after["counts"]["left"], after["counts"]["right"]) > 200, after["counts"]
-        assert likely_styles(driver) == ["old"] != styles_before             # the bars followed
+        assert likely_styles(driver) == [DEMO] != styles_before              # the bars followed
         shot = _screenshot(driver, artifacts / "explorer_transfer_after.png")
         assert shot.stat().st_size > 10_000
         errors = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"]
@@ -94,7 +97,7 @@ def test_transfer_explorer_changes_method_in_jupyterlab(tmp_path):
 
 
 def test_notebook_02s_transfer_explorer_answers_in_jupyterlab(tmp_path):
-    """The workbook's own notebook 02, run top to bottom in JupyterLab: its explorer (adain → old) is switched to
+    """The workbook's own notebook 02, run top to bottom in JupyterLab: its explorer (adain → DEMO) is switched to
     the identity method, and the view and the bars follow (~60 s: the notebook's live training runs too)."""
     pytest.importorskip("selenium", reason="selenium is not installed (it is in requirements.txt)")
     pytest.importorskip("anywidget", reason="anywidget is in the notebooks extra")
@@ -106,7 +109,7 @@ def test_notebook_02s_transfer_explorer_answers_in_jupyterlab(tmp_path):
     with notebook_in_lab(notebook, tmp_path, timeout=600) as driver:
         WebDriverWait(driver, 600).until(lambda d: "adain" in _status(d))
         WebDriverWait(driver, 60).until(lambda d: d.find_elements(By.CSS_SELECTOR, f"{BOX} .mslib-viewer-canvas"))
-        assert likely_styles(driver) == ["old"]
+        assert likely_styles(driver) == [DEMO]
         before = pixels(driver, f"{BOX} .mslib-viewer-canvas")
         select = driver.find_element(By.CSS_SELECTOR, f"{BOX} .mslib-explorer-method select")
         driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", select)
@@ -114,7 +117,7 @@ def test_notebook_02s_transfer_explorer_answers_in_jupyterlab(tmp_path):
         WebDriverWait(driver, 60).until(lambda d: "identity" in _status(d))
         canvas = f"{BOX} .mslib-viewer-canvas"
         WebDriverWait(driver, 10).until(lambda d: pixels(d, canvas)["digest"] != before["digest"])
-        assert likely_styles(driver) != ["old"]  # the content walk is not read as old
+        assert likely_styles(driver) != [DEMO]  # the content walk is not read as the demo style
         shot = _screenshot(driver, artifacts / "notebook02_explorer_identity.png")
         assert shot.stat().st_size > 10_000
 

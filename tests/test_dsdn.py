@@ -150,15 +150,3 @@ def test_stage_two_smooths_the_transfers_and_slides_the_feet_less():
     jit = {m: np.mean([jitter(o) for o in v]) for m, v in outs.items()}
     fsf = {m: np.mean([foot_slide_fsf(o) for o in v]) for m, v in outs.items()}
     assert jit["adain+dsdn"] < jit["adain"] and fsf["adain+dsdn"] < fsf["adain"]
-
-
-@pytest.mark.bench
-@pytest.mark.skipif(not (course_path("dsdn").is_file() and course_path("adain").is_file()),
-                    reason="course checkpoints not trained yet")
-def test_stage_two_keeps_h_within_its_bar_on_the_default_draw():
-    """Issue bar on the whole default draw (seed 0, 200 pairs): H not more than 0.03 below adain's, FSF lower."""
-    from mslib.evaluation.bench import Evaluator, load_pairs, run_bench
-    pairs, ev = load_pairs(0, 200), Evaluator()
-    rows = {m: run_bench(m, pairs=pairs, evaluator=ev) for m in ("adain", "adain+dsdn")}
-    assert rows["adain+dsdn"]["h"] >= rows["adain"]["h"] - 0.03
-    assert rows["adain+dsdn"]["fsf"] < rows["adain"]["fsf"]

@@ -8,7 +8,6 @@ matplotlib.use("Agg")
 
 from mslib import explorers as E  # noqa: E402
 from mslib.motion.features import N_JOINTS  # noqa: E402
-from tests.conftest import TRAINED_ON_OLD_CORPORA  # noqa: E402
 
 CONTENT = "c00000"   # the first test walk of the content corpus
 
@@ -63,7 +62,6 @@ def test_interpolation_ends_are_c_transfers_with_each_style():
     assert not np.array_equal(middle.output, ends[0].output) and not np.array_equal(middle.output, ends[1].output)
 
 
-@TRAINED_ON_OLD_CORPORA  # the new evaluator reads both λ as not angry (P 1e-5 and 2e-6)
 def test_guidance_scale_changes_the_output():
     views = {lam: E.guidance_view(CONTENT, "angry", lam) for lam in (0.0, 2.5)}
     for view in views.values():

@@ -6,7 +6,6 @@ import pytest
 from mslib.evaluation import bench
 from mslib.models.registry import known_methods
 from mslib.motion.features import N_FEATURES
-from tests.conftest import TRAINED_ON_OLD_CORPORA
 
 N_PAIRS = 8  # the first pairs of the default draw; each method's H led identity's by ≥ 0.45 here when written
 METHODS = [m for m in known_methods() if m not in ("identity", "copy_style")]
@@ -19,9 +18,7 @@ def scored():
     return pairs, ev, bench.run_bench("identity", pairs=pairs, evaluator=ev)
 
 
-# clusterstyle: H 0.200 against identity's 0.222 on these pairs under the retrained evaluator
-@pytest.mark.parametrize("method", [pytest.param(m, marks=TRAINED_ON_OLD_CORPORA) if m == "clusterstyle" else m
-                                    for m in METHODS])
+@pytest.mark.parametrize("method", METHODS)
 def test_method_returns_features_and_beats_identity_on_a_few_pairs(method, scored):
     pairs, ev, identity = scored
     transfer = bench.get_method(method)

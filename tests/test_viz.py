@@ -268,3 +268,12 @@ def test_setup_notebook_seeds_and_is_silent(capsys, _restore_global_state):
     assert re.search(r"0\.3333\b", str(torch.tensor([1 / 3])))
     assert os.environ.get("MPLBACKEND") == backend_env
     assert matplotlib.rcParams["figure.dpi"] <= 80
+
+
+def test_demo_style_is_the_best_recognised_non_neutral_style():
+    from mslib.notebook import demo_style
+    rows = [{"style": "neutral", "sra": 100.0}, {"style": "old", "sra": 40.0}, {"style": "angry", "sra": 70.0},
+            {"style": "proud", "sra": 70.0}]
+    assert demo_style(rows) == "angry"  # neutral never; a tie goes to the first name
+    with pytest.raises(ValueError, match="non-neutral"):
+        demo_style(rows[:1])

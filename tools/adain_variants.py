@@ -14,7 +14,14 @@ variants  where the style statistics come from, each trained with the course siz
                            then E_s frozen as A Eq. 3's loss network (no skip);
           shared_frozen    the course recipe: one encoder E for content and style, pre-trained, then frozen.
 strength  the packaged course checkpoint at w ∈ {0.4, 0.45, 0.5, 0.55, 0.6, 0.7} on the same val pairs:
-          how the course preset's `style_strength` was chosen.
+          how the course preset's `style_strength` was chosen; also its SRA and CRA style by style there
+          (`by_style`), from which notebook 02 picks its demo style (`mslib.notebook.demo_style`).
+recipes   full course-length runs (`--recipes NAME,...`, `--seeds 0,1`), each scored on the val pairs at
+          w ∈ {0.5, 0.6}: how the packaged checkpoint's recipe and seed are chosen (the best val H; rows
+          merge by recipe and seed, so two processes can each train some):
+          course         the course preset as it is;
+          wide           hidden 128 (twice the channels: a closer autoencoder keeps more content);
+          content2       λ_content = 2 (A Eq. 5's weights, the content path counted twice).
 """
 from __future__ import annotations
 
@@ -25,7 +32,8 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tools.common import DATA_DIR, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
+from tools.common import (DATA_DIR, current_commit, recorded_command, score_outputs, update_json,  # noqa: E402
+                          val_pairs)
 
 OUT = DATA_DIR / "02_adain_variants.json"
 
@@ -35,6 +43,11 @@ VARIANTS = {
     "shared_frozen": dict(shared_encoder=True),
 }
 STRENGTHS = (0.5, 0.75, 1.0)
+RECIPES = {"course": {}, "wide": dict(hidden=128), "content2": dict(lambda_content=2.0)}
+RECIPE_STRENGTHS = (0.5, 0.6)
+RECIPE_RULE = ("adopt a recipe over 'course' only if its mean val H at the course strength (w 0.5) over seeds 0 and 1 "
+               "beats course's by at least 0.02; package the seed of the adopted recipe with the best val H "
+               "(fixed before content2 seed 1 was scored)")
 
 
 def score(model, pairs, evaluator, strength: float) -> dict:
@@ -67,11 +80,37 @@ def strength(pairs, evaluator) -> dict:
     """The packaged checkpoint at several style strengths."""
     from mslib.checkpoints import checkpoint_digest
     from mslib.models.adain import load_adain
+    from mslib.evaluation.bench import by_style, positions
     model = load_adain()
     rows = [score(model, pairs, evaluator, w) for w in (0.4, 0.45, 0.5, 0.55, 0.6, 0.7)]
     for r in rows:
         print(r, flush=True)
-    return {"rows": rows, "checkpoint": checkpoint_digest("adain"), "course_strength": model.cfg.style_strength}
+    outs = [positions(model.transfer_features(c["features"], s["features"])) for c, s in pairs]
+    styles = [{k: (round(v, 1) if isinstance(v, float) else v) for k, v in r.items()}
+              for r in by_style(outs, pairs, evaluator)]
+    return {"rows": rows, "by_style": styles, "checkpoint": checkpoint_digest("adain"),
+            "course_strength": model.cfg.style_strength}
+
+
+def recipes(paths, pairs, evaluator, names, seeds, keep_dir=None) -> dict:
+    """Train each recipe at the course length for every seed and score it on the val pairs."""
+    import json
+    from mslib.models import adain as A
+    rows = {}
+    for name in names:
+        for seed in seeds:
+            t0 = time.time()
+            out = Path(keep_dir) / f"adain_{name}_s{seed}.pt" if keep_dir else None
+            cfg = A.AdainConfig.preset("course", **RECIPES[name])
+            model, _ = A.train_adain("course", paths["content"], paths["style"], seed=seed, out=out, progress=False,
+                                     config=cfg)
+            for w in RECIPE_STRENGTHS:
+                rows[(name, seed, w)] = {"recipe": name, "seed": seed, **score(model, pairs, evaluator, w),
+                                         "train_seconds": round(time.time() - t0, 1), "commit": current_commit()}
+                print(rows[(name, seed, w)], flush=True)
+    old = json.loads(OUT.read_text()).get("recipes", {}) if OUT.is_file() else {}  # re-read: runs in parallel merge
+    rows = {**{(r["recipe"], r["seed"], r["strength"]): r for r in old.get("rows", [])}, **rows}
+    return {"rows": sorted(rows.values(), key=lambda r: (r["recipe"], r["seed"], r["strength"])), "rule": RECIPE_RULE}
 
 
 def main(argv=None) -> int:
@@ -79,10 +118,15 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default="variants,strength", help="comma-separated sections to run (variants, strength)")
     ap.add_argument("--steps", type=int, default=1500, help="decoder (and autoencoder) steps of each variant")
     ap.add_argument("--pairs", type=int, default=200, help="val pairs to score on")
+    ap.add_argument("--recipes", default="course", help=f"recipes section: comma-separated, of {sorted(RECIPES)}")
+    ap.add_argument("--seeds", default="0", help="recipes section: comma-separated seeds")
+    ap.add_argument("--keep", default=None, metavar="DIR", help="recipes section: keep each run's checkpoint here")
     args = ap.parse_args(argv)
-    unknown = set(args.only.split(",")) - {"variants", "strength"}
+    unknown = set(args.only.split(",")) - {"variants", "strength", "recipes"}
     if unknown:
-        ap.error(f"--only: unknown sections {sorted(unknown)}; expected variants and/or strength")
+        ap.error(f"--only: unknown sections {sorted(unknown)}; expected variants, strength and/or recipes")
+    if set(args.recipes.split(",")) - set(RECIPES):
+        ap.error(f"--recipes: unknown {sorted(set(args.recipes.split(',')) - set(RECIPES))}; known {sorted(RECIPES)}")
     import torch
     from mslib.data.corpora import load_builtin
     from mslib.evaluation.bench import Evaluator
@@ -95,7 +139,10 @@ def main(argv=None) -> int:
         result["variants"] = variants(paths, pairs, evaluator, args.steps)
     if "strength" in todo:
         result["strength"] = strength(pairs, evaluator)
-    command = " ".join(["python tools/adain_variants.py", *(argv if argv is not None else sys.argv[1:])])
+    if "recipes" in todo:
+        result["recipes"] = recipes(paths, pairs, evaluator, args.recipes.split(","),
+                                    [int(x) for x in args.seeds.split(",")], args.keep)
+    command = recorded_command("adain_variants", argv if argv is not None else sys.argv[1:])
     for part in result.values():
         part.update(command=command, val_pairs=args.pairs, commit=current_commit())
     print(update_json(OUT, result))  # sections not re-run are kept

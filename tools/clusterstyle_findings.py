@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tools.common import DATA_DIR, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
+from tools.common import DATA_DIR, current_commit, recorded_command, score_outputs, update_json, val_pairs  # noqa: E402
 
 OUT = DATA_DIR / "06_clusterstyle_findings.json"
 SECTIONS = ("fig5", "table3", "bench", "guidance")
@@ -194,7 +194,7 @@ def main(argv=None) -> int:
         from mslib.evaluation.bench import run_bench
         result["bench"] = {"rows": [run_bench(m) for m in ("clusterstyle", "identity", "copy_style")]}
         print("bench", json.dumps(result["bench"]), flush=True)
-    command = " ".join(["python tools/clusterstyle_findings.py", *(argv if argv is not None else sys.argv[1:])])
+    command = recorded_command("clusterstyle_findings", argv if argv is not None else sys.argv[1:])
     from mslib.checkpoints import checkpoint_digest
     from mslib.models.common.vae import load_vae
     vae_cfg = load_vae().cfg

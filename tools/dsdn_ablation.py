@@ -9,8 +9,8 @@ prints L_rec (A Eq. 11) and L_vel (A Eq. 12) on the training and validation pair
 writes the rows as JSON (notebook 05 reads notebooks/data/05_dsdn_ablation.json, made by this command).
 
 `--strength` instead scores the packaged stages 1 + 2 on 200 (content, style) pairs from the *val*
-splits at correction strengths κ ∈ {0, 0.25, 0.5, 0.75, 1} (H, CRA, SRA, FSF, jitter): the evidence
-for the course preset's κ = 0.5 (H within 0.01 of stage 1's, κ = 0, while FSF and jitter fall); with
+splits at correction strengths κ ∈ {0, 0.25, 0.5, 0.75, 1} (H, CRA, SRA, FSF, jitter): how the course
+preset's κ is chosen (the highest val H; a tie goes to the smaller κ, which keeps more stage-1 style); with
 `--out` the rows are added to that file under "strength". Either run keeps the other's part of the file.
 """
 from __future__ import annotations

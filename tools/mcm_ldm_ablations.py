@@ -6,7 +6,9 @@ packaged model, scored by the independent evaluator on benchmark pairs; writes n
 The JSON records the packaged VAE's latent (arch, tokens, width); rows measured through another VAE are stale.
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
 (use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
-λ ∈ {0, 1, 2.5, 5}. Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+λ ∈ {0, 1, 2.5, 5} (B's λ claim, on the benchmark pairs); choose: the packaged model at λ ∈ VAL_SCALES on
+200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H), stored as the section
+"choose". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
 one name the commit that stored them.
 """
@@ -19,13 +21,15 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tools.common import DATA_DIR, current_commit, score_outputs, update_json  # noqa: E402
+from tools.common import (DATA_DIR, current_commit, recorded_command, score_outputs, update_json,  # noqa: E402
+                          val_pairs)
 
 VARIANTS = {"full": {}, "no_remover": {"use_remover": False}, "no_traj": {"use_traj": False},
             "scratch_style": {"pretrained_style": False}}
 LABELS = {"full": "full (short run)", "no_remover": "w/o StyleRemover", "no_traj": "w/o trajectory",
           "scratch_style": "style extractor from scratch"}
 OUT = DATA_DIR / "04_ablations.json"
+VAL_SCALES = (1.5, 2.0, 2.5, 3.0)
 METRICS = ("cra", "sra", "h", "tsi", "fsf", "fmd")
 
 
@@ -33,7 +37,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--pairs", type=int, default=100)
-    ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep")
+    ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep",
+                    help="comma-separated: full, no_remover, no_traj, scratch_style, sweep, choose")
     ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")
     args = ap.parse_args(argv)
     from mslib.checkpoints import checkpoint_digest
@@ -49,7 +54,7 @@ def main(argv=None) -> int:
     todo = args.only.split(",")
     prepared = None
     Path(args.workdir).mkdir(parents=True, exist_ok=True)
-    command = ("python tools/mcm_ldm_ablations.py " + " ".join(argv or sys.argv[1:])).strip()
+    command = recorded_command("mcm_ldm_ablations", argv if argv is not None else sys.argv[1:])
     commit = current_commit()
 
     def score(tr, scale=None):
@@ -75,6 +80,19 @@ def main(argv=None) -> int:
             rows[key] = {"key": key, "variant": f"course model, λ = {lam}", **score(tr, lam),
                          "command": command, "commit": commit, "checkpoint": checkpoint_digest("mcm_ldm")}
             print(json.dumps(rows[key]), flush=True)
+    if "choose" in todo:
+        tr, vpairs = P.load_mcm_ldm(), val_pairs(200)
+        val = [{"scale": lam, **{k: round(v, 4) for k, v in score_outputs(
+            [positions(tr(c["features"], s["features"], scale=lam)) for c, s in vpairs], vpairs, ev).items()
+            if k in METRICS}} for lam in VAL_SCALES]
+        for r in val:
+            print(json.dumps(r), flush=True)
+        best = max(val, key=lambda r: r["h"])["scale"]
+        update_json(OUT, {"choose": {"rows": val, "best_scale": best, "rule": "the highest H on 200 val pairs",
+                                     "val_pairs": 200, "checkpoint": checkpoint_digest("mcm_ldm"),
+                                     "command": command, "commit": commit}})
+        if todo == ["choose"]:
+            return 0
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
     order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]

@@ -230,7 +230,7 @@ for r in recipes["rows"]:
     print(f"{r['variant']:>14} {r['pairs']:>7} {str(r['steps'][0]) + ' + ' + str(r['steps'][1]):>19} {r['h']:>6.3f} "
           f"{r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f} {r['content_from_style_clip']:>26.1f}")
 rec = {r["variant"]: r for r in recipes["rows"]}
-BAR_H = 0.60  # this method's bar, set on the benchmark's default (test) draw
+BAR_H = 0.60  # the method's bar on the benchmark's default (test) draw when these recipes were compared
 SEED_RUNS = {f"{name}_s{n}": name for name in ("across", "union_short", "union_mid") for n in (1, 2)}  # retrained with seeds 1, 2
 SEED_RUNS.update({f"{name}_s2": name for name in ("course_gain", "course_long", "course_negatives", "course_views")})
 by = {k: r["h"] for k, r in rec.items() if k not in SEED_RUNS}  # one run per recipe (seed 0)
@@ -790,16 +790,16 @@ print(f"depressed: nearest-neighbour purity {u['unseen_nn_purity']:.2f} (chance 
 # %% [markdown]
 # ## 6. The benchmark
 # The course model on the 200 held-out pairs of the default draw, next to the two reference rows
-# (identity: all content; copy_style: all style). H is the harmonic mean of CRA and SRA; the bar for
-# this method is H ≥ 0.60 and above both reference rows.
+# (identity: all content; copy_style: all style). H is the harmonic mean of CRA and SRA; the workbook's bar
+# for every method, since the corpora were fitted to real capture, is H ≥ 0.65 and above both reference rows.
 
 # %%
 evaluator = Evaluator()
 rows = [run_bench(m, seed=0, n_pairs=200, pairs=pairs, evaluator=evaluator) for m in ("identity", "copy_style", "contrastive")]
 print(format_table(rows, notebook=True))
 h = {r["method"]: r["h"] for r in rows}
-print(f"bar met (H ≥ {BAR_H:.2f} and above both references):",
-      bool(h["contrastive"] >= BAR_H and h["contrastive"] > max(h["identity"], h["copy_style"])))
+print("bar met (H ≥ 0.65 and above both references):",
+      bool(h["contrastive"] >= 0.65 and h["contrastive"] > max(h["identity"], h["copy_style"])))
 
 # %% [markdown]
 # Where does the content go? For each transfer, ask the content classifier what it sees, and count how

@@ -198,8 +198,9 @@ HTML(viz.animation_html(list(triples["walk"]), titles=["content", "stage 1", "st
 # smooths (a tremor, a bounce). So the course model applies the correction at a strength $\kappa$:
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
-# **val** splits. The course preset takes $\kappa = 0.5$: there H stays within 0.01 of stage 1's
-# (the $\kappa = 0$ row) while FSF and jitter already fall; beyond it, H drops.
+# **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
+# table says which). Read the columns: CRA and SRA do not move together, and FSF and jitter fall as the
+# correction grows.
 
 # %%
 if "strength" in ablation:

@@ -28,6 +28,7 @@ from mslib import viz
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, positions, run_bench
 from mslib.evaluation import metrics as M
 from mslib.models.registry import DESCRIPTIONS, get_method, known_methods
+from mslib.notebook import load_findings
 
 METHODS = ["identity", "copy_style", "adain", "adain+dsdn", "contrastive", "mcm_ldm", "clusterstyle"]
 assert set(METHODS) <= set(known_methods())  # importing the model modules registers their methods
@@ -156,6 +157,44 @@ checks = [
 ]
 for claim, holds in checks:
     print(f"{'holds' if holds else 'does not hold':>13} · {claim}")
+
+# %% [markdown]
+# ## 5. On real motion capture
+# Everything above happens in the built-in world, judged by classifiers of that world. The question a
+# skeptic asks is whether it carries over to real motion. `tools/real_bench.py` (its data is not in the
+# repository; `data_prep/README.md` says where it comes from) gives every method **real pairs**: real
+# contents — the neutral takes of the Xia test grid and HumanML3D-format motions from CMU and 100STYLE —
+# each with the style of every one of the grid's 40 real takes (eight styles × walk, run, jump, punch,
+# kick). The same outputs are judged twice: by the packaged evaluator above, and by the same classifiers
+# trained on the **real** Xia train split only (never on the grid). When two judges disagree, the one that
+# knows real motion is the one to believe about real motion. The stored tables:
+
+# %%
+real = load_findings("07_real_bench", required=False).get("real_pairs")
+if real is None:
+    print("no stored real-pair benchmark (run tools/real_bench.py)")
+else:
+    print(f"{real['pairs']} real pairs: {len(real['contents'])} contents × {real['styles']} style takes")
+    for judge in ("packaged", "real"):
+        print(f"\njudged by the {judge} evaluator")
+        print(f"{'method':<13} {'CRA':>6} {'SRA':>6} {'H':>6} {'FSF':>6}")
+        for r in real["rows"][judge]:
+            print(f"{r['method']:<13} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.3f} {r['fsf']:>6.2f}")
+    best = max((r for r in real["rows"]["real"] if r["method"] not in ("identity", "copy_style")), key=lambda r: r["h"])
+    ident = next(r for r in real["rows"]["real"] if r["method"] == "identity")
+    print(f"\nreal judge: the best learned row ({best['method']}) reaches SRA {best['sra']:.1f} % against "
+          f"identity's {ident['sra']:.1f} %; the real judges recognise the grid's own takes at "
+          f"{real['judges_on_the_grid']['real_style_accuracy']:.0f} % (style)")
+
+# %% [markdown]
+# **Reading the two tables.** The packaged evaluator learned its classes from built-in motion only: on
+# real contents its content classifier is mostly wrong (read identity's CRA), so its CRA and H say little
+# here. The real judge recognises the grid's takes themselves almost perfectly, and by it every method
+# keeps more content than copy_style and takes more style than identity — something of the transfer
+# carries over — but the target style is recognised in only a fraction of the outputs: on real motion the
+# methods move the style much less than on built-in motion. Compare adain with adain+dsdn there: the
+# stage-2 correction, trained on built-in motion, smooths part of the real style back out. That gap is the
+# honest state of the course models, and the reason the built-in data is being made more real (notebook 00 §6).
 
 # %% [markdown]
 # **Speed.** `python -m mslib perf` times every method on a 64-frame clip (median of 20 runs after

@@ -1,0 +1,108 @@
+"""The benchmark bars of the packaged checkpoints (`make bench`), on the built-in default draw and on real pairs.
+
+Built-in (seed 0, 200 test pairs, the README's table): every learned method H ≥ 0.65 and above both
+reference rows; stage 2 (adain+dsdn) lowers FSF and jitter with H at most 0.03 below stage 1's; MCM-LDM's
+FSF below AdaIN's (B's trajectory claim).
+
+Real (read from ../shared/data, skipped without it): the pairs of tools/real_bench.py — the Xia test grid's
+40 takes as styles, its neutral takes and the HumanML3D-format motions of `CONTENT_FILES` as contents —
+every method judged by classifiers trained on the real Xia train split only: SRA ≥ 40 % and at least three
+times identity's, CRA ≥ 70 %, H above both reference rows.
+
+A bar that a packaged checkpoint misses is a strict xfail naming what it measured, so a checkpoint that
+meets it fails loudly until the mark goes.
+"""
+import numpy as np
+import pytest
+
+from mslib.evaluation.bench import Evaluator, bench_row, load_pairs, transfer_pairs
+from mslib.evaluation.metrics import jitter
+
+pytestmark = pytest.mark.bench
+
+LEARNED = ("adain", "adain+dsdn", "contrastive", "mcm_ldm", "clusterstyle")
+REFERENCES = ("identity", "copy_style")
+H_BAR, REAL_SRA, REAL_SRA_TIMES_IDENTITY, REAL_CRA = 0.65, 40.0, 3.0, 70.0
+
+
+def missed(reason: str):
+    return pytest.mark.xfail(strict=True, reason=f"bar not met by the packaged checkpoint: {reason}")
+
+
+def params(reasons: dict) -> list:
+    return [pytest.param(m, marks=missed(reasons[m])) if m in reasons else m for m in LEARNED]
+
+
+# ---------------------------------------------------------------- the built-in default draw
+@pytest.fixture(scope="module")
+def builtin():
+    pairs, ev = load_pairs(0, 200), Evaluator()
+    outputs = {m: transfer_pairs(m, pairs)[0] for m in LEARNED + REFERENCES}
+    return {m: bench_row(m, 0, o, pairs, ev, 0.0) for m, o in outputs.items()}, outputs
+
+
+H_MISSED = {"adain": "H 0.563 (stage 1 alone; the val recipe search of tools/adain_variants.py peaks near 0.6)",
+            "mcm_ldm": "H 0.643 (λ = 2.5 has the best val H of tools/mcm_ldm_ablations.py --only choose)"}
+
+
+@pytest.mark.parametrize("method", params(H_MISSED))
+def test_every_learned_method_reaches_the_h_bar(builtin, method):
+    assert builtin[0][method]["h"] >= H_BAR
+
+
+@pytest.mark.parametrize("method", LEARNED)
+def test_every_learned_method_beats_both_reference_rows(builtin, method):
+    rows = builtin[0]
+    assert rows[method]["h"] > max(rows[r]["h"] for r in REFERENCES)
+
+
+def test_stage_two_lowers_foot_slide_and_jitter_and_keeps_h(builtin):
+    rows, outputs = builtin
+    jit = {m: np.mean([jitter(o) for o in outputs[m]]) for m in ("adain", "adain+dsdn")}
+    assert rows["adain+dsdn"]["fsf"] < rows["adain"]["fsf"] and jit["adain+dsdn"] < jit["adain"]
+    assert rows["adain+dsdn"]["h"] >= rows["adain"]["h"] - 0.03
+
+
+def test_mcm_ldm_slides_its_feet_less_than_adain(builtin):
+    assert builtin[0]["mcm_ldm"]["fsf"] < builtin[0]["adain"]["fsf"]
+
+
+# ---------------------------------------------------------------- real pairs
+@pytest.fixture(scope="module")
+def real(tmp_path_factory):
+    from tests.conftest import SHARED_DATA
+    from tools.real_bench import CONTENT_FILES, convert_once, train_judges
+    from mslib.evaluation.real_pairs import real_pairs
+    if not (SHARED_DATA / "xia_train").is_dir() or not (SHARED_DATA / "xia_grid").is_dir():
+        pytest.skip(f"real Xia takes not found at {SHARED_DATA} (only developers and CI have ../shared)")
+    work = tmp_path_factory.mktemp("real")
+    train = convert_once(SHARED_DATA / "xia_train", work / "xia_train")
+    grid = convert_once(SHARED_DATA / "xia_grid", work / "xia_grid")
+    judges = train_judges(train, work)
+    pairs = real_pairs(grid, [str(SHARED_DATA / spec) for spec in CONTENT_FILES])
+    ev = Evaluator(judges["content"], judges["style"])
+    return {m: bench_row(m, 0, transfer_pairs(m, pairs)[0], pairs, ev, 0.0) for m in LEARNED + REFERENCES}
+
+
+REAL_SRA_MISSED = {m: "on real pairs the real judge reads the target style in 20–29 % of the outputs" for m in LEARNED}
+REAL_CRA_MISSED = {"adain": "CRA 67.6", "contrastive": "CRA 50.6", "clusterstyle": "CRA 51.4"}
+# adain+dsdn's H on the real pairs is within 0.001 of copy_style's (0.311 against 0.312 at one thread): which
+# side it lands on can turn with the thread count, so this one mark is not strict
+REAL_H_MISSED = {"adain+dsdn": "H 0.311 against copy_style's 0.312"}
+
+
+@pytest.mark.parametrize("method", params(REAL_SRA_MISSED))
+def test_on_real_pairs_the_target_style_is_recognised(real, method):
+    assert real[method]["sra"] >= REAL_SRA
+    assert real[method]["sra"] >= REAL_SRA_TIMES_IDENTITY * real["identity"]["sra"]
+
+
+@pytest.mark.parametrize("method", params(REAL_CRA_MISSED))
+def test_on_real_pairs_the_content_is_kept(real, method):
+    assert real[method]["cra"] >= REAL_CRA
+
+
+@pytest.mark.parametrize("method", [pytest.param(m, marks=pytest.mark.xfail(strict=False, reason=REAL_H_MISSED[m]))
+                                    if m in REAL_H_MISSED else m for m in LEARNED])
+def test_on_real_pairs_every_method_beats_both_reference_rows(real, method):
+    assert real[method]["h"] > max(real[r]["h"] for r in REFERENCES)
