@@ -55,6 +55,13 @@ def load_findings(name: str, required: bool = True) -> dict:
     return json.loads(path.read_text())
 
 
+def readable_command(command: str) -> str:
+    """A stored command as a reader can run it: checkpoint arguments (`LABEL=PATH`, or a bare path) keep only
+    their file name, since the folder was a scratch folder of the machine that made the row."""
+    import re
+    return re.sub(r"(?<![\w.])(?:/[^\s/=]+)+/([^\s/]+)", r"\1", command)
+
+
 def demo_style(by_style_rows) -> str:
     """The demo pairs' style: the non-neutral style whose transfers the evaluator recognised most often on
     *validation* pairs (rows as `bench.by_style` gives them; a tie goes to the first name), so a picture shows

@@ -277,3 +277,9 @@ def test_demo_style_is_the_best_recognised_non_neutral_style():
     assert demo_style(rows) == "angry"  # neutral never; a tie goes to the first name
     with pytest.raises(ValueError, match="non-neutral"):
         demo_style(rows[:1])
+
+
+def test_readable_command_keeps_only_file_names_of_scratch_paths():
+    from mslib.notebook import readable_command
+    cmd = "python tools/contrastive_findings.py val joint=/tmp/exp/var_joint.pt /work/s/b.pt --out notebooks/data/x.json"
+    assert readable_command(cmd) == "python tools/contrastive_findings.py val joint=var_joint.pt b.pt --out notebooks/data/x.json"

@@ -31,7 +31,7 @@ from mslib.data.datasets import MotionFolder
 from mslib.data.styles import STYLES
 from mslib.models import contrastive as C
 from mslib.evaluation import embedding as E
-from mslib.notebook import load_findings
+from mslib.notebook import load_findings, readable_command
 from mslib.motion.features import decode
 
 paths = load_builtin(seed=0, progress=False)
@@ -224,7 +224,7 @@ _ = fig
 recipes = load_findings("03_contrastive_recipes")  # written by tools/contrastive_findings.py
 print(recipes["val_pairs"], "val pairs; scored by")
 for command in dict.fromkeys(r["command"] for r in recipes["rows"]):
-    print(" ", command)
+    print(" ", readable_command(command))
 print(f"{'recipe':>14} {'pairs':>7} {'steps (AE + Eq. 5)':>19} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content from style clip %':>26}")
 for r in recipes["rows"]:
     print(f"{r['variant']:>14} {r['pairs']:>7} {str(r['steps'][0]) + ' + ' + str(r['steps'][1]):>19} {r['h']:>6.3f} "
@@ -312,7 +312,7 @@ print("best w on val:", best["strength"], f"(H {best['h'] - h_c:+.3f} against w 
 # %%
 def seed_table(section: dict) -> dict:
     """Print a seeds section of the JSON (its commands, then a row per seed and w); seed → H at C's transfer."""
-    print(section["command"])
+    print(readable_command(section["command"]))
     if "note" in section:
         print("note:", section["note"])
     print(f"{'seed':>5} {'w':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7} {'content from style clip %':>26}")
@@ -402,8 +402,8 @@ _ = fig
 # %% [markdown]
 # **Where does the style of a transfer live?** Two checks on the same validation pairs
 # (`tools/contrastive_findings.py ceiling`), made for `plain`'s run packaged while it was the preset (seed 2;
-# `git show 27342ef:mslib/checkpoints/contrastive.pt > plain_s2.pt` gives it back, and `ceiling plain=plain_s2.pt`
-# scores it). First, transfers that learn nothing: A Eq. 2 applied to the
+# it is `mslib/checkpoints/contrastive.pt` as the repository's history holds it at commit 27342ef, and
+# `ceiling plain=plain_s2.pt` scores it once saved under that name). First, transfers that learn nothing: A Eq. 2 applied to the
 # raw 263-d features, partway — the target's time mean (its *posture*) moved a fraction $w_\mu$ toward
 # the style clip's, its movement around that mean scaled per dimension by
 # $(\sigma_\text{style}/\sigma_\text{target})^{w_\sigma}$. Second, the model's transfer split into
@@ -415,7 +415,7 @@ _ = fig
 
 # %%
 ceil = recipes["ceiling_plain"]  # the rows' "course model" is the model scored: here `plain`'s run
-print(ceil["command"], "| style strength of the model:", ceil["strength"])
+print(readable_command(ceil["command"]), "| style strength of the model:", ceil["strength"])
 print(f"{'transfer':>45} {'H':>6} {'CRA':>6} {'SRA':>6} {'FMD':>7}")
 for r in ceil["rows"]:
     print(f"{r['transfer']:>45} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fmd']:>7.0f}")
@@ -468,7 +468,7 @@ print("paper A against this model: SRA higher:", a_row["sra"] > plain_row["sra"]
 by_style = recipes["styles"]
 per_style = {t["transfer"]: {r["style"]: r for r in t["rows"]} for t in by_style["transfers"]}
 model_rows, mix_rows = per_style["plain"], per_style["statistics, w_mean=0.5, w_std=0.0"]
-print(by_style["command"])
+print(readable_command(by_style["command"]))
 print(f"{'style':>10} {'pairs':>5} | `plain`, seed 2: {'SRA':>4} {'CRA':>4} {'read most as':>13} {'E_s 1-NN':>8}"
       f" | half-posture mix: {'SRA':>4} {'CRA':>4}")
 for st, r in model_rows.items():

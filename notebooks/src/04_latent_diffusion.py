@@ -8,8 +8,9 @@
 # **What you will learn**
 # - a transformer motion VAE: a clip of any length → a few latent tokens → the clip back;
 # - the forward (noising) and reverse (DDIM) diffusion processes on those tokens (B §3.1);
-# - the multi-condition denoiser: the StyleRemover on the content tokens (B Eq. 6), AdaLN-Zero with
-#   style on the attention branch and trajectory on the MLP branch (B Eq. 7–8);
+# - the multi-condition denoiser: the StyleRemover extracting the content condition (B Eq. 1), prepended
+#   to the noisy tokens (B Eq. 6), and AdaLN-Zero with style on the attention branch and trajectory on the
+#   MLP branch (B Eq. 7–8);
 # - self-reconstruction training with the style dropped 25% of the time, and classifier-free guidance
 #   at inference (B Eq. 5), with its scale λ;
 # - what the trajectory condition buys (foot contacts), paper B Table 2's ablations, and the bench row.
@@ -112,7 +113,8 @@ for name, motions in (("original clips", raw_pos), ("VAE reconstructions", [deco
 # ## 2. Forward diffusion: noising a motion latent
 # The "scaled linear" schedule: $\beta_t = \big(\sqrt{\beta_0} + \tfrac{t}{T-1}(\sqrt{\beta_1}-\sqrt{\beta_0})\big)^2$ with
 # $\beta_0 = 0.00085$, $\beta_1 = 0.012$, $T = 1000$, and $\bar\alpha_t = \prod_{s\le t}(1-\beta_s)$. Any
-# noise level can be reached in one jump (B Eq. 1):
+# noise level can be reached in one jump — the one-step kernel $q(z_n \mid z_{n-1})$ of B Eq. 2, composed
+# over $t$ steps:
 #
 # $$z_t = \sqrt{\bar\alpha_t}\, z_0 + \sqrt{1-\bar\alpha_t}\,\varepsilon,\qquad \varepsilon\sim\mathcal N(0, I).$$
 
@@ -146,13 +148,16 @@ _ = fig
 #   the **StyleRemover** — InstanceNorm of every latent channel over the $N$ tokens (removing the
 #   statistics across tokens, as AdaIN removes them across time), a transformer layer, and a linear map
 #   from $N$ to $N-1$ tokens (a bottleneck). These
-#   tokens are *prepended* to the noisy tokens, and only the last $N$ outputs are read (B Eq. 6).
+#   tokens — B Eq. 1's $f_c$ — are *prepended* to the noisy tokens, and only the last $N$ outputs are read
+#   (B Eq. 6).
 # - **style** $s$: a frozen motion encoder pre-trained CLIP-style on the style corpus's captions (which
 #   name the style) — the workbook's MotionCLIP (§4). Its vector, plus the timestep embedding,
-#   drives AdaLN-Zero on the **attention** branch of every block (B Eq. 7):
+#   drives AdaLN-Zero on the **attention** branch of every block (its $\gamma_s, \beta_s, g_s$ from
+#   $\mathrm{MLP}_s$, B Eq. 7; applied as in the first line of B Eq. 8):
 #   $h \leftarrow h + g_s\cdot \mathrm{Attn}\big(\mathrm{LN}(h)(1+\gamma_s)+\beta_s\big)$.
 # - **trajectory** $\tau$: the content's root angular and XZ velocities (3 dims per frame) through a small
-#   transformer with a summary token; plus the timestep it drives the **MLP** branch (B Eq. 8):
+#   transformer with a summary token; plus the timestep it drives the **MLP** branch ($\mathrm{MLP}_t$,
+#   B Eq. 7; the second line of B Eq. 8):
 #   $h \leftarrow h + g_\tau\cdot \mathrm{MLP}\big(\mathrm{LN}(h)(1+\gamma_\tau)+\beta_\tau\big)$.
 #
 # The course latent is long (one token per 4 frames), so the denoiser groups $p$ consecutive latent tokens

@@ -51,15 +51,16 @@ print("sub-styles per style:", {s: len(SUBSTYLES[s]) for s in STYLES})
 
 # %% [markdown]
 # ## 1. Balanced assignment: Sinkhorn–Knopp on a 2-D toy
-# Give $N$ unit features $F$ and $K$ unit prototypes $P$ of one style. The plain rule "each feature goes
+# Give $N$ unit features $F$ ($d\times N$, one per column) and $K$ unit prototypes $P$ ($d\times K$) of one
+# style; their similarities $F^\top P$ are an $N\times K$ matrix, one row per feature. The plain rule "each feature goes
 # to its most similar prototype" lets one prototype swallow everything and leaves the others idle —
-# clustering collapses. Paper D (after SwAV) asks instead for the assignment $Q$ that maximises
-# similarity *and* uses every prototype about equally:
+# clustering collapses. Paper D (after SwAV) asks instead for the assignment $Q$ ($N\times K$, like the
+# similarities) that maximises similarity *and* uses every prototype about equally:
 #
-# $$Q^\ast = \arg\max_{Q}\ \mathrm{Tr}(Q^\top P^\top F) + \varepsilon H(Q)\quad\text{s.t.}\quad Q\mathbf 1 = \tfrac1N\mathbf 1\ (\text{features}),\ \ Q^\top\mathbf 1 = \tfrac1K\mathbf 1\ (\text{prototypes}).$$
+# $$Q^\ast = \arg\max_{Q}\ \mathrm{Tr}(Q^\top F^\top P) + \varepsilon H(Q)\quad\text{s.t.}\quad Q\mathbf 1_K = \tfrac1N\mathbf 1_N\ (\text{each feature's row}),\ \ Q^\top\mathbf 1_N = \tfrac1K\mathbf 1_K\ (\text{each prototype's column}).$$
 #
-# Its solution has the form $Q = \mathrm{diag}(u)\,\exp(P^\top F/\varepsilon)\,\mathrm{diag}(v)$, and
-# Sinkhorn–Knopp finds $u, v$ by alternately rescaling the columns to mass $1/K$ and the rows to mass
+# Its solution has the form $Q = \mathrm{diag}(u)\,\exp(F^\top P/\varepsilon)\,\mathrm{diag}(v)$ with $u\in\mathbb R^N$,
+# $v\in\mathbb R^K$, and Sinkhorn–Knopp finds them by alternately rescaling the columns to mass $1/K$ and the rows to mass
 # $1/N$ (ε = 0.05, 3 iterations); each feature then takes the argmax of its row. A toy: 60 directions in
 # the plane, most of them near prototype 0.
 

@@ -98,9 +98,9 @@ class PrototypeConfig(Config):
 def sinkhorn(scores: torch.Tensor, epsilon: float = 0.05, iters: int = 3) -> torch.Tensor:
     """Balanced soft assignment of N features to K prototypes from scores (N, K) → Q (N, K).
 
-    D Eq. 4: Q = argmax Tr(Qᵀ Pᵀ F) + ε H(Q) with every prototype used about N/K times, solved by
-    Sinkhorn–Knopp on exp(PᵀF / ε): alternately scale the prototype columns to 1/K and the feature rows
-    to 1/N. Returned rows sum to 1 (one feature, one unit of mass); column sums ≈ N/K."""
+    D Eq. 4 with F (d, N) and P (d, K), so that scores = FᵀP and Q are both (N, K):
+    Q = argmax Tr(Qᵀ FᵀP) + ε H(Q) with every prototype used about N/K times, solved by Sinkhorn–Knopp
+    on exp(FᵀP / ε): alternately scale the prototype columns to 1/K and the feature rows to 1/N. Returned rows sum to 1 (one feature, one unit of mass); column sums ≈ N/K."""
     if scores.ndim != 2 or scores.shape[0] < 1 or scores.shape[1] < 1:
         raise ValueError(f"scores: expected a non-empty (N, K) matrix, got shape {tuple(scores.shape)}")
     n, k = scores.shape

@@ -1,0 +1,278 @@
+# %% [markdown]
+# # 08 · Appendix: the papers' claims, measured
+#
+# Notebooks 02–07 each teach one method. This appendix gathers, in one place, every claim of the four
+# papers that the workbook tests: what the paper says, what the course models show on the **built-in**
+# benchmark and — where it can be measured — on **real** motion capture, a verdict, one paragraph on what
+# it means, and the command that reproduced the number. Nothing here is trained or sampled: every number
+# is read from the tables the tools of `tools/` stored in `notebooks/data/` (each row names the commit and
+# the checkpoints that made it), and every verdict is computed from them by the rule printed beside it.
+#
+# **How to read a verdict.** *holds* — the direction the paper reports shows up here; *does not hold* —
+# it does not, which on this small CPU benchmark is a finding, not a bug. The papers measured on real
+# datasets with their own evaluators and GPU-sized models, so only the **direction** of a claim carries
+# over, never its numbers.
+#
+# Sources: the built-in benchmark is `python -m mslib bench --method all --pairs 200` (the README's table,
+# stored by `python tools/update_docs.py readme`); the real pairs are `tools/real_bench.py` (the real
+# data is not in the repository: `data_prep/README.md` says where it comes from).
+
+# %%
+import mslib
+mslib.setup_notebook(seed=0)
+
+import numpy as np
+
+from mslib.notebook import load_findings, readable_command
+
+bench = {r["method"]: r for r in load_findings("07_bench")["builtin"]["rows"]}
+real_section = load_findings("07_real_bench", required=False).get("real_pairs")
+real = {r["method"]: r for r in real_section["rows"]["real"]} if real_section else {}
+REFERENCES = ("identity", "copy_style")
+verdicts = []  # (claim, built-in verdict, real verdict) for the summary at the end
+
+
+def verdict(holds) -> str:
+    return "n/a" if holds is None else ("holds" if holds else "does not hold")
+
+
+def record(claim: str, builtin, on_real=None, command: str = "") -> None:
+    """Print one claim's verdicts (built-in, real) and keep it for the summary table."""
+    verdicts.append((claim, verdict(builtin), verdict(on_real)))
+    print(f"{claim}\n  built-in: {verdict(builtin)}   real pairs: {verdict(on_real)}")
+    if command:
+        print(f"  reproduce: {readable_command(command)}")
+
+
+def beats_references(rows: dict, method: str) -> bool | None:
+    """H above both reference rows (identity: all content; copy_style: all style)."""
+    if method not in rows:
+        return None
+    return rows[method]["h"] > max(rows[m]["h"] for m in REFERENCES)
+
+
+print(f"built-in: {bench['identity']['pairs']} test pairs; real: "
+      + (f"{real_section['pairs']} pairs, judged by classifiers trained on the real Xia train split" if real else
+         "not stored"))
+print(f"{'method':<13} {'H built-in':>10} {'H real':>7}")
+for m in bench:
+    print(f"{m:<13} {bench[m]['h']:>10.3f} {real[m]['h'] if m in real else float('nan'):>7.3f}")
+
+# %% [markdown]
+# ## Paper A — cross-dataset AdaIN transfer and the dual-stream denoiser
+#
+# **A Table 1** (transfer quality): AdaIN transfer with dual-path training keeps content and takes style
+# — here, its H is above both reference rows, alone (stage 1) and with stage 2.
+
+# %%
+for m in ("adain", "adain+dsdn"):
+    b, r = bench[m], real.get(m)
+    print(f"{m:<11} built-in H {b['h']:.3f} (CRA {b['cra']:.1f}, SRA {b['sra']:.1f})"
+          + (f" | real H {r['h']:.3f} (CRA {r['cra']:.1f}, SRA {r['sra']:.1f})" if r else ""))
+print(f"references: built-in H {max(bench[m]['h'] for m in REFERENCES):.3f}"
+      + (f", real H {max(real[m]['h'] for m in REFERENCES):.3f}" if real else ""))
+for m in ("adain", "adain+dsdn"):
+    record(f"A Table 1: {m} beats both reference rows on H", beats_references(bench, m), beats_references(real, m),
+           "python -m mslib bench --method all --pairs 200")
+
+# %% [markdown]
+# Both stages clear the references on the built-in pairs. On real pairs stage 1 does too, while the
+# corrected transfer lands level with copy_style: DSDN was trained to undo stage 1's artefacts on
+# built-in motion, and on real motion it also smooths away part of the real style it was given.
+#
+# **A Table 2** (the ablation of stage 2): the dual-stream network with its gate beats either stream
+# alone — here on the reconstruction loss $L_{rec}$ (A Eq. 11) and the velocity loss $L_{vel}$ (A Eq. 12)
+# of the held-out (noisy, clean) pairs, the three modes trained on the same pairs with the same seed.
+
+# %%
+t2 = load_findings("05_dsdn_ablation")
+rows = {r["mode"]: r for r in t2["rows"]}
+print(f"{'mode':<8} {'val L_rec':>9} {'val L_vel':>9}")
+for mode, r in rows.items():
+    print(f"{mode:<8} {r['val_rec']:>9.3f} {r['val_vel']:>9.3f}")
+record("A Table 2: the dual stream has the lowest L_rec", min(rows, key=lambda k: rows[k]["val_rec"]) == "dual",
+       command=f"python {t2['command']} --out notebooks/data/05_dsdn_ablation.json")
+record("A Table 2: the dual stream has the lowest L_vel", min(rows, key=lambda k: rows[k]["val_vel"]) == "dual",
+       command=f"python {t2['command']} --out notebooks/data/05_dsdn_ablation.json")
+
+# %% [markdown]
+# The gate earns its place on reconstruction: the fused output is closer to the clean motion than either
+# stream's. On smoothness it does not: the dynamic (LSTM) stream alone has the smoothest output, and the
+# gate trades some of that smoothness for the static stream's better poses.
+#
+# **A §4.3** (what stage 2 is for): the correction lowers foot sliding (FSF) and jitter. The stored
+# correction-strength sweep (κ = 0 is stage 1 alone) and the benchmark rows:
+
+# %%
+st = t2["strength"]
+k0 = next(r for r in st["rows"] if r["strength"] == 0.0)
+print(f"{'κ':>5} {'H':>6} {'FSF':>6} {'jitter':>7}   ({st['val_pairs']} val pairs)")
+for r in st["rows"]:
+    print(f"{r['strength']:>5.2f} {r['h']:>6.3f} {r['fsf']:>6.2f} {r['jitter']:>7.2f}")
+record("A §4.3: stage 2 lowers foot sliding (FSF)", bench["adain+dsdn"]["fsf"] < bench["adain"]["fsf"],
+       real["adain+dsdn"]["fsf"] < real["adain"]["fsf"] if real else None, "python -m mslib bench --method all")
+record("A §4.3: stage 2 lowers jitter (every κ > 0 on val)",
+       all(r["jitter"] < k0["jitter"] for r in st["rows"] if r["strength"] > 0), command=f"python {st['command']}")
+
+# %% [markdown]
+# **A Fig. 2** (where the noise comes from): variance-only transfer carries the *dynamic* noise (jitter),
+# mean-only transfer the *static* noise (a pose held in the wrong place). Notebook 02 §6 measures both on
+# 40 benchmark pairs with the packaged stage 1; the same numbers, recomputed here (AdaIN is fast):
+
+# %%
+from mslib.evaluation.bench import load_pairs
+from mslib.evaluation.metrics import transfer_noise
+from mslib.models.adain import load_adain
+
+fig2 = {k: np.mean(v, 0) for k, v in transfer_noise(load_adain(), load_pairs(seed=0, n_pairs=40)).items()}
+for name, (j, o) in fig2.items():
+    print(f"{name:<14} jitter {j:5.2f} m/s²   pose offset {o:.3f} m")
+record("A Fig. 2: variance-only carries more jitter than mean-only",
+       fig2["variance only"][0] > fig2["mean only"][0], command="notebook 02 §6")
+record("A Fig. 2: mean-only carries the larger pose offset",
+       fig2["mean only"][1] > fig2["variance only"][1], command="notebook 02 §6")
+
+# %% [markdown]
+# Both halves show the split A describes: shaking rides on the variances, a displaced pose on the means.
+#
+# ## Paper B — MCM-LDM
+#
+# **B Table 1** (transfer quality): MCM-LDM keeps content and takes style — H above both references.
+# **B §4.3** (the trajectory condition): with its trajectory condition the output keeps its feet better
+# than a transfer that copies the content's path without it — here, lower FSF than AdaIN's.
+
+# %%
+b = bench["mcm_ldm"]
+print(f"mcm_ldm built-in H {b['h']:.3f} (CRA {b['cra']:.1f}, SRA {b['sra']:.1f}), FSF {b['fsf']:.2f} against "
+      f"adain's {bench['adain']['fsf']:.2f}")
+record("B Table 1: mcm_ldm beats both reference rows on H", beats_references(bench, "mcm_ldm"),
+       beats_references(real, "mcm_ldm"), "python -m mslib bench --method all --pairs 200")
+record("B §4.3: mcm_ldm slides its feet less than adain", bench["mcm_ldm"]["fsf"] < bench["adain"]["fsf"],
+       real["mcm_ldm"]["fsf"] < real["adain"]["fsf"] if real else None, "python -m mslib bench --method all")
+
+# %% [markdown]
+# **B Table 2** (ablations): each part matters — without the StyleRemover, without the trajectory
+# condition, or with a style extractor trained from scratch instead of pre-trained, H falls; and without
+# the trajectory the root path strays further (TSI). Short runs of each variant on the same 100 pairs.
+# **The λ sweep**: the guidance scale has a best value in the middle — too little and the style is weak,
+# too much and the content goes.
+
+# %%
+abl = load_findings("04_ablations")
+ar = {r["key"]: r for r in abl["rows"]}
+print(f"{'variant':<30} {'CRA':>6} {'SRA':>6} {'H':>6} {'TSI':>6}")
+for r in abl["rows"]:
+    print(f"{r['variant']:<30} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.3f} {r['tsi']:>6.2f}")
+for key in ("no_remover", "no_traj", "scratch_style"):
+    record(f"B Table 2: '{ar[key]['variant']}' lowers H", ar[key]["h"] < ar["full"]["h"], command=ar[key]["command"])
+record("B Table 2: without the trajectory the root path strays further (TSI)", ar["no_traj"]["tsi"] > ar["full"]["tsi"],
+       command=ar["no_traj"]["command"])
+lams = sorted((r for r in abl["rows"] if r["key"].startswith("lambda_")), key=lambda r: float(r["key"][7:]))
+best = max(lams, key=lambda r: r["h"])
+record(f"B λ sweep: H peaks inside the range (best λ = {best['key'][7:]})", best is not lams[0] and best is not lams[-1],
+       command=best["command"])
+
+# %% [markdown]
+# All of B's ablations point the way the paper reports: the StyleRemover matters most (without it the
+# output keeps the content's style, SRA near identity's), and a pre-trained style extractor beats one
+# learnt from scratch alongside the denoiser.
+#
+# ## Paper C — contrastive disentanglement
+#
+# **C Table 1** (the weight β of the contrastive terms): C reports its best trade at β = 0.3.
+# **C Fig. 2** (what the terms buy): with InfoNCE and the triplet loss, style codes group by style
+# (higher silhouette) than without. Both from short runs (`tools/contrastive_analysis.py`), measured on
+# held-out clips. **C Fig. 3**: the codes of a style never seen in training still group together.
+
+# %%
+cf = load_findings("03_contrastive_findings")
+print(f"{'β':>4} {'style silhouette':>17} {'1-NN style acc.':>16}")
+for r in cf["sweep"]:
+    print(f"{r['beta']:>4.1f} {r['silhouette']:>17.3f} {r['nn_accuracy']:>16.3f}")
+best_beta = max(cf["sweep"], key=lambda r: r["nn_accuracy"])["beta"]
+print(f"with the terms: silhouette {cf['with']['silhouette']:.3f}; without: {cf['without']['silhouette']:.3f}")
+u = cf["unseen"]
+print(f"unseen style '{cf['unseen_style']}': 1-NN purity {u['unseen_nn_purity']:.2f} (chance {u['chance_nn_purity']:.2f})")
+record(f"C Table 1: the best β is C's 0.3 (here: {best_beta})", best_beta == 0.3, command=cf["command"])
+record("C Fig. 2: the contrastive terms make style codes group better", cf["with"]["silhouette"] > cf["without"]["silhouette"],
+       command=cf["command"])
+record("C Fig. 3: an unseen style's codes group (1-NN purity ≥ 2× chance)",
+       u["unseen_nn_purity"] >= 2 * u["chance_nn_purity"], command=cf["command"])
+record("C §4: the course model beats both reference rows on H", beats_references(bench, "contrastive"),
+       beats_references(real, "contrastive"), "python -m mslib bench --method all --pairs 200")
+
+# %% [markdown]
+# C's representation claims do not reproduce here. In short CPU runs the style codes do not separate by
+# style better with the contrastive terms than without, and the best β of the sweep is not C's — one short
+# run per β, so hold the differences against notebook 03's seed table. The packaged course model
+# nevertheless transfers well on H: its
+# style encoder was first trained as an autoencoder and then frozen (notebook 03 §4), which is a
+# departure from C, not C's joint training.
+#
+# ## Paper D — ClusterStyle
+#
+# **D Table 3** (the style encoder's head): learning prototypes by clustering gives better transfers
+# than a plain classification head — here, SRA of the two heads on the same pairs, each trained for the
+# same short run. **D Fig. 5** (intra-style diversity): one prototype per seed gives more diverse outputs
+# than seeds alone.
+
+# %%
+cs = load_findings("06_clusterstyle_findings")
+heads = {r["head"]: r for r in cs["table3"]["rows"]}
+se = 100 * np.sqrt(0.25 / cs["table3"]["pairs"])
+for h, r in heads.items():
+    print(f"{h:<11} SRA {r['sra']:5.1f}  CRA {r['cra']:5.1f}  H {r['h']:.3f}")
+print(f"one standard error of an SRA near 50 % on {cs['table3']['pairs']} pairs: ±{se:.1f} points")
+f5 = cs["fig5"]["summary"]["transfer"]
+print(f"transfers: prototype k with seed k more diverse than seeds alone in {f5['paired_beats_seeds']['diversity']}"
+      f"/{f5['examples']} examples (diversity), {f5['paired_beats_seeds']['pose_cm']}/{f5['examples']} (pose)")
+record("D Table 3: the prototype head beats the classification head on SRA",
+       heads["prototypes"]["sra"] > heads["classifier"]["sra"], command=cs["table3"]["command"] + " --only table3")
+record("D Fig. 5: prototypes add diversity to transfers (most examples)",
+       2 * f5["paired_beats_seeds"]["diversity"] > f5["examples"], command=cs["fig5"]["command"] + " --only fig5")
+record("D §4: clusterstyle beats both reference rows on H", beats_references(bench, "clusterstyle"),
+       beats_references(real, "clusterstyle"), "python -m mslib bench --method all --pairs 200")
+record("D §4: clusterstyle's outputs are more diverse than adain's",
+       bench["clusterstyle"]["diversity"] > bench["adain"]["diversity"],
+       real["clusterstyle"]["diversity"] > real["adain"]["diversity"] if real else None, "python -m mslib bench --method all")
+
+# %% [markdown]
+# D's diversity claim holds in the built-in world — choosing a prototype moves the output in a way a new
+# seed alone does not — while its Table 3 does not: the clustering head is not better than a plain
+# classifier here. On real pairs clusterstyle's outputs are less diverse than AdaIN's.
+#
+# ## The recipe explorations, in one table each
+# The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
+# Here is the gist of each search, as stored.
+
+# %%
+av = load_findings("02_adain_variants")
+print("A stage 1, where the style statistics come from (tools/adain_variants.py; best val H over w):")
+best_var = {}
+for r in av["variants"]["rows"]:
+    best_var[r["variant"]] = max(best_var.get(r["variant"], 0.0), r["h"])
+for k, v in best_var.items():
+    print(f"  {k:<16} {v:.3f}")
+rec = load_findings("03_contrastive_recipes")
+print(f"\nC, the course recipe's candidates (tools/contrastive_findings.py val; H on {rec['val_pairs']} val pairs, "
+      "older corpora — each row names its commit):")
+for r in sorted(rec["rows"], key=lambda r: -r["h"])[:8]:
+    print(f"  {r['variant']:<20} {r['h']:.3f}   ({r['commit']})")
+g = cs["guidance"]
+print(f"\nD, the guidance grid (tools/clusterstyle_findings.py --only guidance; {g['pairs']} {g['split']} pairs):")
+for r in g["rows"]:
+    print(f"  w {r['weight']:>6.0f}  s_s {r['cfg_style']:>3}  H {r['h']:.3f}")
+
+# %% [markdown]
+# ## Summary
+# Every claim above in one table, with its verdict on the built-in benchmark and on real pairs (n/a where
+# the claim was only measured on one of them).
+
+# %%
+width = max(len(c) for c, _, _ in verdicts)
+print(f"{'claim':<{width}}  {'built-in':<14} {'real pairs':<14}")
+for claim, b, r in verdicts:
+    print(f"{claim:<{width}}  {b:<14} {r:<14}")
+print(f"\nhold on the built-in benchmark: {sum(b == 'holds' for _, b, _ in verdicts)} of "
+      f"{sum(b != 'n/a' for _, b, _ in verdicts)}; on real pairs: {sum(r == 'holds' for _, _, r in verdicts)} of "
+      f"{sum(r != 'n/a' for _, _, r in verdicts)}")
