@@ -24,6 +24,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from mslib.cpu_paths import pin_cpu_code_paths  # noqa: E402
+
+pin_cpu_code_paths()  # before numpy and torch load: the code path of the tests, so `make bench` sees these numbers
 from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
 
 OUT = DATA_DIR / "07_real_bench.json"
@@ -74,6 +77,8 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", type=int, default=None, help="a draw of this many pairs (default: all of them)")
     ap.add_argument("--no-save", action="store_true", help="print only; leave the stored JSON alone")
     args = ap.parse_args(argv)
+    import torch
+    torch.set_num_threads(1)  # the models are small; one thread makes every stored digit independent of the cores
     from mslib.checkpoints import checkpoint_digest
     from mslib.evaluation.bench import Evaluator, bench_row, format_table, known_methods, transfer_pairs
     from mslib.evaluation.real_pairs import parse_content_spec, real_pairs
