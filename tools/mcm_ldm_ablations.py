@@ -7,8 +7,9 @@ The JSON records the packaged VAE's latent (arch, tokens, width); rows measured 
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
 (use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
 λ ∈ {0, 1, 2.5, 5} (B's λ claim, on the benchmark pairs); choose: the packaged model at λ ∈ VAL_SCALES on
-200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H), stored as the section
-"choose". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H) — and then, at that λ,
+at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the fewest steps whose val H is within STEPS_TOLERANCE
+of the most steps'; fewer steps are proportionally faster), stored as the section "choose". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
 one name the commit that stored them.
 """
@@ -30,6 +31,8 @@ LABELS = {"full": "full (short run)", "no_remover": "w/o StyleRemover", "no_traj
           "scratch_style": "style extractor from scratch"}
 OUT = DATA_DIR / "04_ablations.json"
 VAL_SCALES = (1.5, 2.0, 2.5, 3.0)
+VAL_STEPS = (20, 30, 40, 50)
+STEPS_TOLERANCE = 0.01
 METRICS = ("cra", "sra", "h", "tsi", "fsf", "fmd")
 
 
@@ -82,13 +85,21 @@ def main(argv=None) -> int:
             print(json.dumps(rows[key]), flush=True)
     if "choose" in todo:
         tr, vpairs = P.load_mcm_ldm(), val_pairs(200)
-        val = [{"scale": lam, **{k: round(v, 4) for k, v in score_outputs(
-            [positions(tr(c["features"], s["features"], scale=lam)) for c, s in vpairs], vpairs, ev).items()
-            if k in METRICS}} for lam in VAL_SCALES]
-        for r in val:
-            print(json.dumps(r), flush=True)
+
+        def val_row(**knob):
+            outs = [positions(tr(c["features"], s["features"], **knob)) for c, s in vpairs]
+            row = {**knob, **{k: round(v, 4) for k, v in score_outputs(outs, vpairs, ev).items() if k in METRICS}}
+            print(json.dumps(row), flush=True)
+            return row
+        val = [val_row(scale=lam, steps=max(VAL_STEPS)) for lam in VAL_SCALES]
         best = max(val, key=lambda r: r["h"])["scale"]
+        steps_rows = [val_row(scale=best, steps=n) for n in VAL_STEPS]
+        most = next(r["h"] for r in steps_rows if r["steps"] == max(VAL_STEPS))
+        best_steps = min(r["steps"] for r in steps_rows if r["h"] >= most - STEPS_TOLERANCE)
         update_json(OUT, {"choose": {"rows": val, "best_scale": best, "rule": "the highest H on 200 val pairs",
+                                     "steps_rows": steps_rows, "best_steps": best_steps,
+                                     "steps_rule": f"the fewest DDIM steps with val H within {STEPS_TOLERANCE} of "
+                                                   f"{max(VAL_STEPS)} steps' (at the chosen λ)",
                                      "val_pairs": 200, "checkpoint": checkpoint_digest("mcm_ldm"),
                                      "command": command, "commit": commit}})
         if todo == ["choose"]:

@@ -42,8 +42,8 @@ for m in METHODS:
 # (`python -m mslib bench --method all`, the README's table, printed first below from its stored rows,
 # with the standard error of each accuracy); to stay within a minute on a laptop we then score the first
 # 40 pairs of the same draw live — a **demo**: on 40 pairs an accuracy moves by several points from the
-# draw alone, so decisions are made on the 200. The diffusion rows run 50 (MCM-LDM) and 20
-# (ClusterStyle, from t₀ by SDEdit) denoising steps per clip, which is where most of this cell's time goes.
+# draw alone, so decisions are made on the 200. The diffusion rows run 20 denoising steps per clip
+# (MCM-LDM from noise, ClusterStyle from t₀ by SDEdit), which is where most of this cell's time goes.
 
 # %%
 stored = load_findings("07_bench")["builtin"]
