@@ -17,6 +17,12 @@ def check_writable(path, force: bool = False, arg: str = "output") -> Path:
     return path
 
 
+def file_digest(path) -> str:
+    """The first 12 hex digits of a file's SHA-256: which file a stored result read."""
+    import hashlib
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:12]
+
+
 def atomic_write_bytes(path, data: bytes) -> None:
     """Write bytes to a temporary file beside `path`, then rename it into place."""
     path = Path(path)

@@ -70,24 +70,15 @@ def test_mcm_ldm_slides_its_feet_less_than_adain(builtin):
 # ---------------------------------------------------------------- real pairs
 @pytest.fixture(scope="module")
 def real(tmp_path_factory):
+    """The rows of tools/real_bench.py's run (its pairs, one thread), judged by the real judges."""
     from tests.conftest import SHARED_DATA
-    from tools.real_bench import CONTENT_FILES, convert_once, train_judges
-    from mslib.evaluation.real_pairs import real_pairs
+    from tools.real_bench import CONTENT_FILES, score_real_pairs
     if not (SHARED_DATA / "xia_train").is_dir() or not (SHARED_DATA / "xia_grid").is_dir():
         pytest.skip(f"real Xia takes not found at {SHARED_DATA} (only developers and CI have ../shared)")
-    import torch
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)  # as tools/real_bench.py runs, so that the stored table and these bars agree
-    try:
-        work = tmp_path_factory.mktemp("real")
-        train = convert_once(SHARED_DATA / "xia_train", work / "xia_train")
-        grid = convert_once(SHARED_DATA / "xia_grid", work / "xia_grid")
-        judges = train_judges(train, work)
-        pairs = real_pairs(grid, [str(SHARED_DATA / spec) for spec in CONTENT_FILES])
-        ev = Evaluator(judges["content"], judges["style"])
-        return {m: bench_row(m, 0, transfer_pairs(m, pairs)[0], pairs, ev, 0.0) for m in LEARNED + REFERENCES}
-    finally:
-        torch.set_num_threads(threads)
+    run = score_real_pairs(SHARED_DATA / "xia_train", SHARED_DATA / "xia_grid",
+                           [str(SHARED_DATA / spec) for spec in CONTENT_FILES], tmp_path_factory.mktemp("real"),
+                           LEARNED + REFERENCES)
+    return {r["method"]: r for r in run["rows"]["real"]}
 
 
 REAL_SRA_MISSED = {m: "on real pairs the real judge reads the target style in about 20–30 % of the outputs"

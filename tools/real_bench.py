@@ -61,9 +61,31 @@ def train_judges(xia_train: Path, workdir: Path) -> dict:
     return paths
 
 
-def digest(path) -> str:
-    import hashlib
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:12]
+def score_real_pairs(xia_train_bvh, xia_grid_bvh, content_specs, workdir, methods, n_pairs=None) -> dict:
+    """Convert both Xia splits and train the real judges into `workdir` (once), then every method on the real pairs,
+    scored by both judges: {"rows": {judge: [bench rows]}, "pairs", "grid", "train", "judges"}. One torch thread
+    (restored after): the models are small, and every digit is then independent of the cores."""
+    import torch
+    from mslib.evaluation.bench import Evaluator, bench_row, transfer_pairs
+    from mslib.evaluation.real_pairs import real_pairs
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        work = Path(workdir)
+        work.mkdir(parents=True, exist_ok=True)
+        train = convert_once(xia_train_bvh, work / "xia_train")
+        grid = convert_once(xia_grid_bvh, work / "xia_grid")
+        judges = train_judges(train, work)
+        pairs = real_pairs(grid, content_specs, n_pairs)
+        evaluators = {"packaged": Evaluator(), "real": Evaluator(judges["content"], judges["style"])}
+        rows = {j: [] for j in JUDGES}
+        for method in methods:
+            outputs, seconds = transfer_pairs(method, pairs, progress=True)
+            for judge, ev in evaluators.items():
+                rows[judge].append(bench_row(method, 0, outputs, pairs, ev, seconds))
+    finally:
+        torch.set_num_threads(threads)
+    return {"rows": rows, "pairs": pairs, "grid": grid, "train": train, "judges": judges}
 
 
 def main(argv=None) -> int:
@@ -77,44 +99,33 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", type=int, default=None, help="a draw of this many pairs (default: all of them)")
     ap.add_argument("--no-save", action="store_true", help="print only; leave the stored JSON alone")
     args = ap.parse_args(argv)
-    import torch
-    torch.set_num_threads(1)  # the models are small; one thread makes every stored digit independent of the cores
     from mslib.checkpoints import checkpoint_digest
-    from mslib.evaluation.bench import Evaluator, bench_row, format_table, known_methods, transfer_pairs
-    from mslib.evaluation.real_pairs import parse_content_spec, real_pairs
+    from mslib.evaluation.bench import format_table, known_methods
+    from mslib.evaluation.evaluator import load_classifier, test_accuracy
+    from mslib.evaluation.real_pairs import parse_content_spec
     from mslib.evaluation.realism import folder_digest
+    from mslib.fileio import file_digest
 
-    work = Path(args.workdir)
-    work.mkdir(parents=True, exist_ok=True)
-    train = convert_once(args.xia_train, work / "xia_train")
-    grid = convert_once(args.xia_grid, work / "xia_grid")
-    judges = train_judges(train, work)
-    pairs = real_pairs(grid, args.content, args.pairs)
-    evaluators = {"packaged": Evaluator(), "real": Evaluator(judges["content"], judges["style"])}
     methods = known_methods() if args.methods == "all" else args.methods.split(",")
-    rows = {j: [] for j in JUDGES}
-    for method in methods:
-        outputs, seconds = transfer_pairs(method, pairs, progress=True)
-        for judge, ev in evaluators.items():
-            rows[judge].append(bench_row(method, 0, outputs, pairs, ev, seconds))
+    run = score_real_pairs(args.xia_train, args.xia_grid, args.content, args.workdir, methods, args.pairs)
+    rows, pairs, grid, judges = run["rows"], run["pairs"], run["grid"], run["judges"]
     for judge in JUDGES:
         print(f"judged by the {judge} evaluator:\n{format_table(rows[judge])}", flush=True)
-
-    from mslib.evaluation.evaluator import load_classifier, test_accuracy
     judge_acc = {kind: round(test_accuracy(load_classifier(kind, judges[kind]), grid, split=None), 1)
                  for kind in ("style", "content")}
     contents = sorted({c["clip_id"]: c["content"] for c, _ in pairs}.items())
+    files = [parse_content_spec(s)[0] for s in args.content]
     section = {
         "rows": rows, "pairs": len(pairs), "contents": [{"clip": k, "content": v} for k, v in contents],
         "styles": len({s["clip_id"] for _, s in pairs}),
         "judges_on_the_grid": {"real_style_accuracy": judge_acc["style"], "real_content_accuracy": judge_acc["content"]},
-        "data": {"xia_train": folder_digest(train), "xia_grid": folder_digest(grid),
-                 "content_files": {parse_content_spec(s)[0].name: digest(parse_content_spec(s)[0]) for s in args.content}},
+        "data": {"xia_train": folder_digest(run["train"]), "xia_grid": folder_digest(grid),
+                 "content_files": {f.name: file_digest(f) for f in files}},
         "checkpoints": {m: checkpoint_digest(m) for m in ("adain", "dsdn", "contrastive", "mcm_ldm", "clusterstyle",
                                                             "evaluator_style", "evaluator_content")},
+        # the data by role and file name (FILE=CONTENT keeps its label), not by this machine's paths
         "command": ("python tools/real_bench.py --xia-train XIA_TRAIN_BVH --xia-grid XIA_GRID_BVH --content "
-                    + " ".join(f"{parse_content_spec(s)[0].name}" + (f"={parse_content_spec(s)[1]}" if parse_content_spec(s)[1] else "")
-                               for s in args.content) + (f" --pairs {args.pairs}" if args.pairs else "")),
+                    + " ".join(Path(s).name for s in args.content) + (f" --pairs {args.pairs}" if args.pairs else "")),
         "commit": current_commit(), "when": time.strftime("%Y-%m-%d"),
     }
     if not args.no_save:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import torch
 
-from ..fileio import atomic_write_bytes
+from ..fileio import atomic_write_bytes, file_digest
 
 FORMAT_VERSION = 1
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -24,8 +24,7 @@ def course_path(name: str) -> Path:
 
 def checkpoint_digest(name: str) -> str:
     """The first 12 hex digits of a packaged checkpoint's SHA-256: which model a stored result measured."""
-    import hashlib
-    return hashlib.sha256(course_path(name).read_bytes()).hexdigest()[:12]
+    return file_digest(course_path(name))
 
 
 def save_checkpoint(path, model: torch.nn.Module, config: dict, model_name: str, extra: dict | None = None) -> Path:
