@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 from pathlib import Path
 
-FIGURE_DPI = 72
+FIGURE_DPI = 100
 
 
 def setup_notebook(seed: int = 0) -> None:
@@ -70,3 +70,22 @@ def demo_style(by_style_rows) -> str:
     if not rows:
         raise ValueError("by_style_rows: no non-neutral style to choose from")
     return max(sorted(rows, key=lambda r: r["style"]), key=lambda r: r["sra"])["style"]
+
+
+def demo_pairs(pairs, read_style, style: str | None = None, n: int = 1) -> list:
+    """The first `n` pairs of a draw that can show a style (one per style, or all of `style`): the style clip is
+    not neutral and the evaluator reads it as its own style (`read_style(joints)` names what it reads), and the
+    content clip's content differs from the style clip's — a rule fixed before any transfer is looked at."""
+    chosen, seen = [], set()
+    for content, clip in pairs:
+        s = clip["style"]
+        if s == "neutral" or (style is not None and s != style) or (style is None and s in seen):
+            continue
+        if content["content"] == clip.get("content") or read_style(clip["joints"]) != s:
+            continue
+        chosen.append((content, clip))
+        seen.add(s)
+        if len(chosen) == n:
+            return chosen
+    raise ValueError(f"pairs: only {len(chosen)} of the {len(pairs)} pairs can show "
+                     f"{'the style ' + repr(style) if style else 'a style'} by the rule, {n} asked for")

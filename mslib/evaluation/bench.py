@@ -82,6 +82,10 @@ class Evaluator:
         s_logits, s_feat = self.style.score(motions)
         return c_logits, s_logits, np.concatenate([c_feat, s_feat], 1)
 
+    def read_style(self, motion) -> str:
+        """The style the style classifier reads in one (T, 22, 3) motion."""
+        return self.style.classes[int(self.style.score([motion])[0][0].argmax())]
+
     def real_features(self, clips) -> np.ndarray:
         """FMD features of real clips (dicts with "clip_id" and "joints"), computed once per clip."""
         todo = [c for c in clips if c["clip_id"] not in self._real]

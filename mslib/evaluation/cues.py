@@ -145,3 +145,19 @@ def cues(positions, fps: float = FPS) -> dict:
 def cue_table(windows, fps: float = FPS) -> np.ndarray:
     """(N, len(CUES)) cues of a list of windows (NaN where a cue is undetermined, e.g. one step seen)."""
     return np.array([[c[k] for k in CUES] for c in map(lambda w: cues(w, fps), windows)]).reshape(-1, len(CUES))
+
+
+TRACKS = {"head_height": "head above the floor (L)", "trunk_pitch": "trunk pitch, forward + (deg)",
+          "arm_swing": "left wrist ahead of the right (L)"}
+
+
+def cue_tracks(positions) -> dict:
+    """Three posture and amplitude cues frame by frame, (T,) each (the window cues are their means or spreads):
+    head height (L), trunk pitch (degrees, forward +), and the left wrist's lead over the right (L), whose
+    swing from + to − is the arm swing."""
+    p = check_positions(positions, min_frames=2)
+    q = body_frame(p)
+    spine = q[:, NECK] - q[:, PELVIS]
+    return {"head_height": q[:, HEAD, 1],
+            "trunk_pitch": np.degrees(np.arctan2(spine[:, 2], spine[:, 1])),
+            "arm_swing": q[:, WRISTS[0], 2] - q[:, WRISTS[1], 2]}

@@ -36,7 +36,7 @@ _LABELS = {"front": ("X (m), the character's left →", "Y (m)"),
            "top": ("X (m), ← the character's left", "Z (m), forward →")}
 _VIEW_NAMES = {"front": "front view", "side": "side view (from its right)", "top": "top view",
                "3d": "3-D view"}
-DPI = 72
+DPI = 100
 
 
 # ---------------------------------------------------------------- validation
@@ -251,8 +251,9 @@ def plot_pose(ax, positions, parents=PARENTS, view: str = "front", title: str | 
 
 
 def plot_strip(motions, n_frames: int = 6, view: str = "side", titles=None, row_labels=None,
-               parents=PARENTS, names=None, fps: float = 20, spacing: str = "travel") -> Figure:
-    """Rows of n_frames evenly spaced poses, one row per motion, spread out side by side."""
+               parents=PARENTS, names=None, fps: float = 20, spacing: str = "travel", axes=None) -> Figure:
+    """Rows of n_frames evenly spaced poses, one row per motion, spread out side by side (into `axes`, one
+    per motion, when given: a strip inside a larger figure)."""
     view = _check_view(view, set(VIEWS_2D))
     if spacing not in ("travel", "fixed"):
         raise ValueError(f"spacing: must be 'travel' (add the root's travel) or 'fixed', "
@@ -285,8 +286,13 @@ def plot_strip(motions, n_frames: int = 6, view: str = "side", titles=None, row_
     aspect = (vlim[1] - vlim[0]) / (hlim[1] - hlim[0])
     row_h = float(np.clip(0.85 * fig_w * aspect + 0.7, 1.4, 4))
     fig_w = min(fig_w, max(3.5, (row_h - 0.7) / 0.85 / aspect + 1.0))   # tall rows: no wide margins
-    fig, axes = plt.subplots(len(ms), 1, figsize=(fig_w, row_h * len(ms) + 0.6), dpi=DPI,
-                             squeeze=False)
+    if axes is None:
+        fig, axes = plt.subplots(len(ms), 1, figsize=(fig_w, row_h * len(ms) + 0.6), dpi=DPI, squeeze=False)
+    else:
+        axes = np.asarray(axes, dtype=object).reshape(-1, 1)
+        if len(axes) != len(ms):
+            raise ValueError(f"axes: one per motion needed, got {len(axes)} for {len(ms)} motions")
+        fig = None
     for i, ((m, idx, root), sh) in enumerate(zip(rows, shifts)):
         ax = axes[i, 0]
         for k, t in enumerate(idx):
@@ -297,6 +303,8 @@ def plot_strip(motions, n_frames: int = 6, view: str = "side", titles=None, row_
         ax.set_title(f"{name} ({len(m)} frames)" if not titles else name, fontsize=9)
         if row_labels:
             ax.set_ylabel(f"{row_labels[i]}\nY (m)" if vi == 1 else row_labels[i], fontsize=8)
+    if fig is None:
+        return axes[0, 0].figure
     fig.suptitle(_VIEW_NAMES[view] + (", forward →" if view == "side" else ""), fontsize=9,
                  x=0.02, ha="left")
     fig.legend(handles=_side_handles(sides), loc="upper right", ncol=3, fontsize=7, frameon=False)

@@ -1,0 +1,40 @@
+"""A transfer shown so that a student sees what moved: the strip of content, style clip and output, and beside
+it the style cues over time (head height, trunk pitch, arm swing; `cues.cue_tracks`) of the three motions."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
+
+from .. import viz
+from .cues import FPS, TRACKS, cue_tracks
+
+ROLE_COLOURS = {"content": "0.55", "style": "tab:orange", "output": "tab:blue"}
+
+
+def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: float = FPS) -> Figure:
+    """Strip rows (content, style clip, output) with the cue tracks of all three beside them; positions (T, 22, 3)."""
+    motions = {"content": content, "style": style, "output": output}
+    tracks = {role: cue_tracks(m) for role, m in motions.items()}  # validates every motion
+    titles = list(titles) if titles is not None else list(motions)
+    if len(titles) != 3:
+        raise ValueError(f"titles: three needed (content, style, output), got {len(titles)}")
+    fig = plt.figure(figsize=(10, 5.6), dpi=viz.DPI)  # pyplot's: a notebook shows it at the end of the cell
+    grid = fig.add_gridspec(3, 2, width_ratios=(2.3, 1), wspace=0.28, hspace=0.55)
+    strip_axes = [fig.add_subplot(grid[i, 0]) for i in range(3)]
+    viz.plot_strip(list(motions.values()), n_frames=n_frames, view="side", titles=titles, axes=strip_axes)
+    for ax, role in zip(strip_axes, motions):
+        ax.title.set_color(ROLE_COLOURS[role] if role != "content" else "0.3")
+    for i, (cue, label) in enumerate(TRACKS.items()):
+        ax = fig.add_subplot(grid[i, 1])
+        for role, title in zip(motions, titles):
+            y = tracks[role][cue]
+            ax.plot(np.arange(len(y)) / fps, y, color=ROLE_COLOURS[role], lw=2 if role == "output" else 1.3,
+                    label=title if i == 0 else None)
+        ax.set_title(label, fontsize=9)
+        ax.tick_params(labelsize=7)
+        if i == 2:
+            ax.set_xlabel("time (s)", fontsize=8)
+    fig.legend(loc="upper right", fontsize=7, frameon=False, ncol=3, bbox_to_anchor=(0.99, 1.0))
+    fig.subplots_adjust(left=0.06, right=0.98, top=0.9, bottom=0.08)
+    return fig
