@@ -6,14 +6,15 @@
 # body does), the **style** motion (how), and the content's **trajectory** (where the body goes).
 #
 # **What you will learn**
-# - a transformer motion VAE: a clip of any length → a few latent tokens → the clip back;
+# - the motion VAE: a clip → a short sequence of latent tokens → the clip back;
 # - the forward (noising) and reverse (DDIM) diffusion processes on those tokens (B §3.1);
 # - the multi-condition denoiser: the StyleRemover extracting the content condition (B Eq. 1), prepended
 #   to the noisy tokens (B Eq. 6), and AdaLN-Zero with style on the attention branch and trajectory on the
 #   MLP branch (B Eq. 7–8);
 # - self-reconstruction training with the style dropped 25% of the time, and classifier-free guidance
 #   at inference (B Eq. 5), with its scale λ;
-# - what the trajectory condition buys (foot contacts), paper B Table 2's ablations, and the bench row.
+# - what the trajectory condition buys (foot contacts), paper B Table 2's ablations, and the bench row;
+#   then two exercises: a DDIM step by hand, and a prediction about λ.
 
 # %%
 import mslib
@@ -37,6 +38,9 @@ from mslib.models.common import vae as V
 from mslib.models import mcm_ldm as M
 from mslib.models.common import style_extractor as SE
 from mslib.evaluation.embedding import nn_accuracy
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+from mslib.evaluation.transfer_figure import plot_transfer
+from mslib.notebook import demo_pairs, load_findings
 from mslib.models.common.diffusion import Schedule, cfg_combine
 
 paths = load_builtin(progress=False)
@@ -59,6 +63,11 @@ print(len(content_test), "content test clips,", len(style_test), "style test cli
 # *temporal* latent — one token per 4 frames of the clip (padded to 200 frames), each a short vector.
 # Its latent is divided by `latent_scale` (the spread of $\mu$ on the training set) so the diffusion model
 # sees roughly unit-variance tokens.
+#
+# Reconstruction error on held-out clips, as joint positions: decode the original and the
+# reconstructed features to positions and measure the mean per-joint distance (MPJPE), globally (the
+# root path integrated from the velocities, so small velocity errors add up over a clip) and
+# root-relative (the pose alone).
 
 # %%
 vae = V.load_vae() if course_path("vae").is_file() else None
@@ -68,19 +77,9 @@ if vae is None:  # train it (a few minutes) when the packaged checkpoint is miss
 cfg = vae.cfg
 print(f"{getattr(cfg, 'arch', 'transformer')} VAE, latent: {cfg.latent_tokens} tokens x {cfg.latent_dim}, "
       f"width {cfg.dim}, {sum(p.numel() for p in vae.parameters()) / 1e6:.2f} M parameters")
-
-# %% [markdown]
-# Reconstruction error on held-out clips, as joint positions: decode the original and the
-# reconstructed features to positions and measure the mean per-joint distance (MPJPE), globally (the
-# root path integrated from the velocities, so small velocity errors add up over a clip) and
-# root-relative (the pose alone).
-
-# %%
 err = V.reconstruction_mpjpe(vae, paths["content"], "test")
 print(f"held-out MPJPE over {err['clips']} clips: root-relative {err['mpjpe_local_cm']:.1f} cm, "
       f"global {err['mpjpe_cm']:.0f} cm")
-
-# %%
 items = [content_test[i] for i in (0, 7)]
 raws = [it["features"] for it in items]
 recs = vae.decode_raw(vae.encode_raw(raws), [len(r) for r in raws])
@@ -99,7 +98,6 @@ _ = fig
 # produce a clearly recognisable style: keep the two numbers in mind when you read §6 and §9.
 
 # %%
-from mslib.evaluation.bench import Evaluator
 evaluator = Evaluator()
 probe = [style_test[i] for i in range(0, len(style_test), 3)]
 raw_pos = [decode(it["features"].numpy().astype(np.float64)) for it in probe]
@@ -117,6 +115,8 @@ for name, motions in (("original clips", raw_pos), ("VAE reconstructions", [deco
 # over $t$ steps:
 #
 # $$z_t = \sqrt{\bar\alpha_t}\, z_0 + \sqrt{1-\bar\alpha_t}\,\varepsilon,\qquad \varepsilon\sim\mathcal N(0, I).$$
+#
+# Then decode $z_t$ directly (no denoising) at several $t$: the motion dissolves as the noise grows.
 
 # %%
 sched = Schedule()
@@ -128,10 +128,6 @@ for t in (0, 100, 300, 600, 999):
     print(f"t={t:>3}: sqrt(abar)={float(sched.alphas_cumprod[t]) ** 0.5:.3f}  noise std={float(1 - sched.alphas_cumprod[t]) ** 0.5:.3f}")
 _ = fig
 
-# %% [markdown]
-# Decode $z_t$ directly (no denoising) at several $t$: the motion dissolves as the noise grows.
-
-# %%
 walk = next(content_test[i] for i in range(len(content_test)) if content_test[i]["content"] == "walk")
 z0 = vae.encode_raw([walk["features"]])
 g = torch.Generator().manual_seed(0)
@@ -240,7 +236,7 @@ _ = fig
 # (two views per clip), for much longer: `python -m mslib train style_extractor --preset course --seed 0`,
 # then `python -m mslib train mcm_ldm --preset course --seed 0` (a quarter of an hour on one core).
 # Training length matters more than size here: the same denoiser trained a quarter as long transfers
-# visibly less style and less content (see the issue notes for the validation numbers).
+# visibly less style and less content on validation pairs.
 
 # %%
 tr = load_mcm_ldm()
@@ -258,18 +254,20 @@ print(f"denoiser: {model.cfg.blocks} blocks, width {model.cfg.width}, trained {m
 #
 # $$\hat\varepsilon = \varepsilon_\theta(z_t, \varnothing_s) + \lambda\,\big(\varepsilon_\theta(z_t, s) - \varepsilon_\theta(z_t, \varnothing_s)\big),$$
 #
-# both terms computed in one batched forward pass. Below, $\hat z_0$ decoded along the way.
+# both terms computed in one batched forward pass. Below, $\hat z_0$ decoded along the way, for a demo pair chosen by a rule fixed before any output was
+# looked at: the first benchmark pair whose style clip is not neutral, is read as its own style by the
+# evaluator, and has another content than the content clip (`mslib.notebook.demo_pairs`).
 
 # %%
-pairs_demo = [(walk, next(style_test[i] for i in range(len(style_test)) if style_test[i]["style"] == s))
-              for s in ("old", "angry")]
-c_item, s_item = pairs_demo[0]
+pairs = load_pairs(seed=0, n_pairs=40)  # the benchmark's first 40 test pairs (§9 scores them)
+(c_item, s_item), = demo_pairs(pairs, evaluator.read_style)
+print(f"demo pair: content {c_item['content']}, style clip {s_item['style']} ({s_item['content']})")
 snaps = {}
 n_steps = tr.model.cfg.ddim_steps  # the course model's DDIM steps; four snapshots along them
 def keep(i, t, z_t, z0_hat):
     if i in (0, n_steps // 5, n_steps // 2, n_steps - 1):
         snaps[t] = z0_hat.clone()
-out = tr(c_item["features"].numpy(), s_item["features"].numpy(), callback=keep)
+out = tr(c_item["features"], s_item["features"], callback=keep)
 T = len(c_item["features"])
 fig = viz.plot_strip([decode(vae.decode_raw(z, [T])[0]) for z in snaps.values()], n_frames=5,
                      row_labels=[f"x̂₀ at t={t}" for t in snaps])
@@ -278,14 +276,15 @@ _ = fig
 # %% [markdown]
 # ## 6. The guidance scale λ
 # λ = 0 ignores the style (the unconditional prediction); λ = 1 is the plain conditional model; λ > 1
-# pushes further along the style direction. Same content, same noise, same style clip ("old"). Under
-# each row: the style classifier's probability that the output is "old".
+# pushes further along the style direction. Same content, same noise, same style clip. Printed: the style
+# classifier's probability of the style clip's style for this output, and its mean over the first test clip
+# of every style (one clip can resist its style; the mean shows the trend).
 
 # %%
 target = evaluator.style.classes.index(s_item["style"])
 
 def stylise(scale, style_item=s_item, content_item=c_item):
-    return decode(tr(content_item["features"].numpy(), style_item["features"].numpy(), scale=scale))
+    return decode(tr(content_item["features"], style_item["features"], scale=scale))
 
 def style_probability(motion):
     logits = torch.as_tensor(evaluator.style.score([motion])[0][0])
@@ -298,9 +297,8 @@ def show_scale(scale):
 
 lams = (0.0, 1.0, 2.5, 5.0)
 outs = {lam: stylise(lam) for lam in lams}
-fig = viz.plot_strip([decode(s_item["features"].numpy().astype(np.float64))] + [outs[lam] for lam in lams],
-                     n_frames=5, row_labels=["style: old"] + [f"λ = {lam:g}" for lam in lams])
-# One clip can resist its style; the mean over the first test clip of every style shows the trend.
+fig = viz.plot_strip([s_item["joints"]] + [outs[lam] for lam in lams],
+                     n_frames=5, row_labels=[f"style: {s_item['style']}"] + [f"λ = {lam:g}" for lam in lams])
 firsts = [next(style_test[i] for i in range(len(style_test)) if style_test[i]["style"] == s)
           for s in evaluator.style.classes]
 def mean_target_probability(scale):
@@ -314,31 +312,25 @@ for lam in lams:
 _ = fig
 
 # %% [markdown]
-# Move the slider to redraw (each λ is sampled once, then cached). The static call below it checks the
-# same function that the slider calls.
+# The course model's λ = 2.5 beside its content and style clip, with three style cues over time (head height,
+# trunk pitch, how far the left wrist leads the right, in leg lengths L): grey is the content, orange the style
+# clip, blue the output. Where blue leaves grey toward orange, the style moved; where it stays on grey, the
+# content's own way of moving survived.
+
+# %%
+fig = plot_transfer(c_item["joints"], s_item["joints"], outs[2.5],
+                    titles=[f"content: {c_item['content']}", f"style: {s_item['style']} ({s_item['content']})", "λ = 2.5"])
+
+# %% [markdown]
+# Move the slider to redraw (each λ is sampled once, then cached). Below it, **try it** in 3-D: the same
+# guidance scale on the viewer (drag to turn the skeletons, scroll to zoom, play, pause or scrub; feet light up
+# while they touch the floor; without a running kernel a still picture stands in). The cell after it prints the
+# explorer's numbers at λ = 0 and at the preset's 2.5.
 
 # %%
 # NBVAL_IGNORE_OUTPUT
 from mslib.widgets import slider_figure
 slider_figure(show_scale, values=lams, description="λ", start=2.5)
-
-# %%
-fig = show_scale(2.5)
-assert len(fig.axes) >= 1
-_ = fig
-
-# %% [markdown]
-# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
-# they touch the floor. (Without a running kernel, a still picture stands in for it.)
-
-# %%
-# NBVAL_IGNORE_OUTPUT
-viz.MotionViewer([c_item["joints"].numpy(), stylise(2.5), stylise(2.5, pairs_demo[1][1])],
-                 titles=["content", "→ old", "→ angry"])
-
-# %% [markdown]
-# **Try it.** The same guidance scale λ on the 3-D viewer: each λ is sampled once (a few tenths of a second),
-# then cached. The cell after it prints the function's numbers at λ = 0 and at the preset's 2.5.
 
 # %%
 # NBVAL_IGNORE_OUTPUT
@@ -354,22 +346,22 @@ for lam in (0.0, 2.5):
 # A style changes how fast the feet move and how long they stay planted. Copying the content's root
 # velocities onto a re-styled body (the easy way to keep the path) makes the feet slide whenever the
 # new gait's timing disagrees with the old path; paper B instead *conditions* on the trajectory and
-# lets the model generate a root motion that fits the stylised steps. Top view, foot contacts marked:
+# lets the model generate a root motion that fits the stylised steps. A path needs a content that travels, so
+# here the first held-out walk (of §2) takes the demo style. Top view, foot contacts marked:
 
 # %%
 from mslib.evaluation.metrics import foot_slide_fsf, trajectory_similarity_index
 
-c_feat, s_feat = c_item["features"].numpy(), pairs_demo[1][1]["features"].numpy()
+c_feat, s_feat = walk["features"].numpy(), s_item["features"]
 learned = decode(tr(c_feat, s_feat))
 copied = decode(tr(c_feat, s_feat, copy_traj=True))
-content_pos = c_item["joints"].numpy()
+content_pos = walk["joints"].numpy()
 fig = viz.plot_trajectory([content_pos, learned, copied], labels=["content", "learned (conditioned)", "copied"],
                           contacts="auto")
 for name, m in (("content", content_pos), ("learned", learned), ("copied", copied)):
     print(f"{name:<8} TSI {trajectory_similarity_index(m, content_pos):.2f} m   FSF {foot_slide_fsf(m):.2f} cm/frame")
 _ = fig
 
-# %%
 fig, ax = plt.subplots(2, 1, figsize=(7, 2.6), sharex=True)
 for k, (name, m) in enumerate((("learned", learned), ("copied", copied))):
     c = viz.auto_contacts(m)
@@ -382,40 +374,21 @@ _ = fig
 # %% [markdown]
 # ## 8. Paper B Table 2: ablations and the λ sweep
 # Short runs of the same training with one switch flipped (`MCMConfig.use_remover`, `use_traj`,
-# `pretrained_style`), scored on 100 benchmark pairs by the independent evaluator, and a sweep of λ
-# with the full model. Re-training four models does not fit a notebook's minute, so this table is
-# produced by `python tools/mcm_ldm_ablations.py` (it writes the JSON read here); each row is a
-# measurement of that script, not a typed-in number.
+# `pretrained_style`), scored on 100 benchmark pairs by the independent evaluator, and a sweep of λ with the
+# course model. Re-training four models does not fit a notebook's minute, so the table is made by
+# `python tools/mcm_ldm_ablations.py`, which writes the JSON this cell reads. Paper B's directions: without the
+# StyleRemover the content condition also carries the content's own style, so CRA rises and SRA falls; without
+# the trajectory condition the path drifts (TSI worse); with a style extractor trained from scratch by the
+# diffusion loss alone, SRA falls; and SRA rises with λ. The verdicts are computed from the table: a change
+# counts as reproduced when it has the paper's sign and, for an accuracy, exceeds two standard errors.
 
 # %%
-from mslib.checkpoints import checkpoint_digest
-from mslib.notebook import load_findings
-abl = load_findings("04_ablations", required=False) or None  # written by tools/mcm_ldm_ablations.py
-now = {"arch": getattr(cfg, "arch", "transformer"), "latent_tokens": cfg.latent_tokens, "latent_dim": cfg.latent_dim}
-stale = abl is not None and abl.get("vae") != now
-if stale:
-    print(f"STALE: these rows were measured through another VAE ({abl.get('vae', 'not recorded')}), not the packaged "
-          f"one ({now}); rerun `python tools/mcm_ldm_ablations.py` to measure them again")
-digest = checkpoint_digest("mcm_ldm")
-old_sweep = [r["key"] for r in (abl or {}).get("rows", []) if r["key"].startswith("lambda") and r.get("checkpoint") != digest]
-if old_sweep:
-    print(f"STALE: {', '.join(old_sweep)} measured another mcm_ldm.pt; rerun `python tools/mcm_ldm_ablations.py --only sweep`")
-if abl is not None:
-    commands = sorted({r.get("command", abl["command"]).strip() for r in abl["rows"]})
-    print(f"{abl['pairs']} pairs, switches trained {abl['steps']} steps; made by: {' and '.join(commands)}")
-    print(f"{'variant':<30} {'CRA':>6} {'SRA':>6} {'H':>6} {'TSI':>6} {'FSF':>6}")
-    for r in abl["rows"]:
-        print(f"{r['variant']:<30} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.2f} {r['tsi']:>6.2f} {r['fsf']:>6.2f}")
-else:
-    print("no ablation table yet: run `python tools/mcm_ldm_ablations.py` (about half an hour of one CPU core; two processes with --only split the variants)")
+abl = load_findings("04_ablations")  # written by tools/mcm_ldm_ablations.py
+print(f"{abl['pairs']} pairs, switches trained {abl['steps']} steps")
+print(f"{'variant':<30} {'CRA':>6} {'SRA':>6} {'H':>6} {'TSI':>6} {'FSF':>6}")
+for r in abl["rows"]:
+    print(f"{r['variant']:<30} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.2f} {r['tsi']:>6.2f} {r['fsf']:>6.2f}")
 
-# %% [markdown]
-# Paper B's directions: without the StyleRemover the content condition also carries the content's own
-# style, so CRA rises and SRA falls; without the trajectory condition the path drifts (TSI worse); with a
-# style extractor trained from scratch by the diffusion loss alone, SRA falls; and SRA rises with λ.
-# Whether this workbook's measurement agrees, row by row (computed from the table above):
-
-# %%
 def verdict(delta, se=None):
     """'reproduced' when the change has the paper's sign (and, for accuracies, exceeds 2 standard errors)."""
     if delta <= 0:
@@ -426,52 +399,98 @@ def acc_se(a, b, n):
     """Standard error (points) of the difference of two accuracies (%) measured on n pairs each."""
     return 100 * ((a / 100 * (1 - a / 100) + b / 100 * (1 - b / 100)) / n) ** 0.5
 
-if abl is not None and not stale:
-    r, n = {row["key"]: row for row in abl["rows"]}, abl["pairs"]
-    claims = []
-    if {"full", "no_remover"} <= set(r):
-        f, v = r["full"], r["no_remover"]
-        claims.append(("w/o StyleRemover: CRA up", verdict(v["cra"] - f["cra"], acc_se(v["cra"], f["cra"], n))))
-        claims.append(("w/o StyleRemover: SRA down", verdict(f["sra"] - v["sra"], acc_se(v["sra"], f["sra"], n))))
-    if {"full", "no_traj"} <= set(r):
-        claims.append(("w/o trajectory: TSI worse", verdict(r["no_traj"]["tsi"] - r["full"]["tsi"])))
-    if {"full", "scratch_style"} <= set(r):
-        f, v = r["full"], r["scratch_style"]
-        claims.append(("style extractor from scratch: SRA down", verdict(f["sra"] - v["sra"], acc_se(v["sra"], f["sra"], n))))
-    if {"lambda_0.0", "lambda_5.0"} <= set(r):
-        a, b = r["lambda_0.0"]["sra"], r["lambda_5.0"]["sra"]
-        claims.append(("SRA rises with λ (0 → 5)", verdict(b - a, acc_se(a, b, n))))
-    for claim, result in claims:
-        print(f"{claim:<42} {result}")
+r, n = {row["key"]: row for row in abl["rows"]}, abl["pairs"]
+full = r["full"]
+claims = {
+    "w/o StyleRemover: CRA up": verdict(r["no_remover"]["cra"] - full["cra"], acc_se(r["no_remover"]["cra"], full["cra"], n)),
+    "w/o StyleRemover: SRA down": verdict(full["sra"] - r["no_remover"]["sra"], acc_se(r["no_remover"]["sra"], full["sra"], n)),
+    "w/o trajectory: TSI worse": verdict(r["no_traj"]["tsi"] - full["tsi"]),
+    "style extractor from scratch: SRA down": verdict(full["sra"] - r["scratch_style"]["sra"],
+                                                      acc_se(r["scratch_style"]["sra"], full["sra"], n)),
+    "SRA rises with λ (0 → 5)": verdict(r["lambda_5.0"]["sra"] - r["lambda_0.0"]["sra"],
+                                        acc_se(r["lambda_0.0"]["sra"], r["lambda_5.0"]["sra"], n)),
+}
+for claim, result in claims.items():
+    print(f"{claim:<42} {result}")
+
+# %% [markdown]
+# Four of B's five directions show up here. The one that does not: a style extractor trained from scratch by
+# the diffusion loss alone gives the short run *more* style (SRA), not less, and pays for it in content (CRA) —
+# with nothing pulling its codes toward style captions, it is free to carry whatever helps reconstruction,
+# content included. B's λ sweep also has a turn the table shows: past λ ≈ 2.5, SRA stops rising while CRA keeps
+# falling, which is why H picks the course preset's λ on validation pairs.
 
 # %% [markdown]
 # ## 9. On the benchmark
 # The held-out pairs every method meets (notebook 07), with the course model's DDIM steps and λ (both chosen
 # on validation pairs), beside the two reference rows (`identity` keeps all the content and no style,
 # `copy_style` the reverse). To stay within a notebook's minute, here: the first 40 pairs of the default
-# draw, a demo; the full row is `python -m mslib bench --method mcm_ldm,identity,copy_style`.
+# draw — **a demo**: numbers on 40 pairs move by several points between draws. The README's 200-pair row is
+# `python -m mslib bench --method mcm_ldm,identity,copy_style`.
 
 # %%
-from mslib.evaluation.bench import format_table, load_pairs, run_bench
-pairs = load_pairs(seed=0, n_pairs=40)
 rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("mcm_ldm", "identity", "copy_style")]
 print(format_table(rows, notebook=True))
 
 # %% [markdown]
-# ## Exercise: one DDIM step by hand
-# Write `ddim_step(z_t, eps, abar_t, abar_prev)` for η = 0: predict $\hat z_0$ from the noise estimate,
-# then move to the earlier step $t'$ (the two formulas of §5). Use only tensor operations.
+# ## Exercises
+# **Exercise 1 (2 points) — one DDIM step by hand.** Write `ddim_step(z_t, eps, abar_t, abar_prev)` for η = 0:
+# predict $\hat z_0$ from the noise estimate, then move to the earlier step $t'$ (the two formulas of §5). Use
+# only tensor operations. The check: given the *true* noise, one step from $t$ must land exactly where the
+# forward process puts $z_0$ at $t'$ with the same noise.
 
-# %%
+# %% [nbgrader solution id=ex04_ddim_step]
 def ddim_step(z_t, eps, abar_t, abar_prev):
+    """One deterministic DDIM step: ẑ₀ = (z_t − √(1−ᾱ_t) ε)/√ᾱ_t, then z_t' = √ᾱ_t' ẑ₀ + √(1−ᾱ_t') ε."""
+    ### BEGIN SOLUTION
     z0_hat = (z_t - (1 - abar_t) ** 0.5 * eps) / abar_t ** 0.5
     return abar_prev ** 0.5 * z0_hat + (1 - abar_prev) ** 0.5 * eps
+    ### END SOLUTION
 
-# %%
-# check: with the true noise, one DDIM step from t lands exactly on q(z_t' | z_0) with the same noise
+# %% [nbgrader tests id=ex04_ddim_step_check points=2]
 z0_, eps_ = torch.randn(2, 4, 8), torch.randn(2, 4, 8)
 a_t, a_p = float(sched.alphas_cumprod[700]), float(sched.alphas_cumprod[400])
 z_t = sched.q_sample(z0_, torch.tensor([700, 700]), eps_)
-assert torch.allclose(ddim_step(z_t, eps_, a_t, a_p), sched.q_sample(z0_, torch.tensor([400, 400]), eps_), atol=1e-4)
-assert torch.allclose(cfg_combine(eps_, eps_ + 1, 2.5), eps_ + 2.5, atol=1e-6)
+assert torch.allclose(ddim_step(z_t, eps_, a_t, a_p), sched.q_sample(z0_, torch.tensor([400, 400]), eps_), atol=1e-4), \
+    "with the true noise, the step must land on q(z_t' | z_0)"
+### BEGIN HIDDEN TESTS
+for t_hi, t_lo in ((999, 500), (300, 0)):
+    z_hi = sched.q_sample(z0_, torch.tensor([t_hi, t_hi]), eps_)
+    got = ddim_step(z_hi, eps_, float(sched.alphas_cumprod[t_hi]), float(sched.alphas_cumprod[t_lo]))
+    assert torch.allclose(got, sched.q_sample(z0_, torch.tensor([t_lo, t_lo]), eps_), atol=1e-4)
+### END HIDDEN TESTS
 print("ddim_step lands on the forward process")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** At λ = 0 the denoiser ignores the style clip (the unconditional
+# prediction). *Predict* first: compared with λ = 2.5, does the content classifier then find the content's
+# action **more** or **less** clearly in the output? Write `prediction = "more"` or `"less"`. Then measure, on the
+# first 10 benchmark pairs (`pairs[:10]`): `p_content[lam]`, the content classifier's mean probability of each
+# pair's true content (`evaluator.content.classes` names the columns of `evaluator.content.score(motions)[0]`;
+# a softmax turns them into probabilities) for outputs `decode(tr(c["features"], s["features"], scale=lam))`,
+# λ = 0 and 2.5. The hidden test grades the prediction against your measurement.
+
+# %% [nbgrader solution id=ex04_predict_lambda]
+### BEGIN SOLUTION
+prediction = "more"
+p_content = {}
+for lam in (0.0, 2.5):
+    outs_ = [decode(tr(c["features"], s["features"], scale=lam)) for c, s in pairs[:10]]
+    probs = torch.as_tensor(evaluator.content.score(outs_)[0]).softmax(1)
+    idx = [evaluator.content.classes.index(c["content"]) for c, _ in pairs[:10]]
+    p_content[lam] = float(probs[torch.arange(10), idx].mean())
+### END SOLUTION
+
+# %% [nbgrader tests id=ex04_predict_lambda_check points=1]
+assert prediction in ("more", "less"), "prediction: 'more' or 'less'"
+assert set(p_content) == {0.0, 2.5} and all(0 <= v <= 1 for v in p_content.values()), "p_content: a probability for λ = 0 and 2.5"
+### BEGIN HIDDEN TESTS
+ref = {}
+for lam in (0.0, 2.5):
+    ms = [decode(tr(c["features"], s["features"], scale=lam)) for c, s in pairs[:10]]
+    pr = torch.as_tensor(evaluator.content.score(ms)[0]).softmax(1)
+    ref[lam] = float(pr[torch.arange(10), [evaluator.content.classes.index(c["content"]) for c, _ in pairs[:10]]].mean())
+assert all(abs(p_content[k] - ref[k]) < 1e-6 for k in ref), "measure on pairs[:10] with the course model"
+assert prediction == ("more" if ref[0.0] > ref[2.5] else "less")
+### END HIDDEN TESTS
+print("checked")
