@@ -17,7 +17,8 @@
 # - the SMA (D Eq. 11): a second cross-attention, for style, beside the text one;
 # - generation from a caption and a style clip, three prototypes → three variants (D Fig. 5),
 #   and style transfer by SDEdit at several noise levels;
-# - the benchmark row and the measured D Fig. 5 / Table 3 findings.
+# - the benchmark row and the measured D Fig. 5 / Table 3 findings; then two exercises (a Sinkhorn
+#   iteration by hand, and a prediction about SDEdit's $t_0$).
 #
 # Paper D's text lost its equations; they are written out below, and in the docstrings of `mslib/models/clusterstyle/`.
 
@@ -25,7 +26,8 @@
 import mslib
 mslib.setup_notebook(seed=0)
 
-from mslib.notebook import load_findings
+from mslib.notebook import demo_pairs, load_findings, readable_command
+from mslib.evaluation.transfer_figure import plot_transfer
 
 import numpy as np
 import torch
@@ -109,7 +111,9 @@ _ = fig
 #
 # (intra also pushes away the style's *own* other prototypes, which separates the sub-styles), and
 # $\mathcal L_{style} = (\mathcal L_{inter} + \mathcal L_{intra})_{global} + (\mathcal L_{inter} + \mathcal L_{intra})_{local}$ (D Eq. 7, 10).
-# A live run of 40 steps:
+# A live run of 40 steps, then the course checkpoint, which ran the same recipe for 300 steps (prototypes
+# frozen after 150; `python -m mslib train clusterstyle_style --preset course --seed 0`), and its
+# nearest-prototype style accuracy on held-out clips:
 
 # %%
 torch.manual_seed(0)
@@ -121,12 +125,6 @@ fig = viz.plot_curves({name: np.array(hist["train"][name]) for name in ("global_
                       title="live prototype learning (40 steps)")
 _ = fig
 
-# %% [markdown]
-# The course checkpoint ran the same recipe for 300 steps (prototypes frozen after 150):
-# `python -m mslib train clusterstyle_style --preset course --seed 0`. Nearest-prototype style accuracy
-# on held-out clips:
-
-# %%
 style_model = P.load_style_model()
 def batch_of(ds):
     x = torch.stack([torch.as_tensor((ds[i]["features"].numpy() - norm.mean) / norm.std, dtype=torch.float32)
@@ -276,15 +274,8 @@ fig = viz.plot_strip(v_pos, n_frames=5, row_labels=[f"old, prototype {k}" for k 
 _ = fig
 
 # %% [markdown]
-# In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
-# they touch the floor. (Without a running kernel, a still picture stands in for it.)
-
-# %%
-# NBVAL_IGNORE_OUTPUT
-viz.MotionViewer(v_pos, titles=[f"prototype {k}" for k in range(3)])
-
-# %% [markdown]
-# **Try it.** Pick a style and one of its prototypes (or the reference clip's own feature) as the guidance
+# **Try it** in the 3-D viewer (drag to turn, scroll to zoom, play or scrub; without a running kernel a still
+# picture stands in). Pick a style and one of its prototypes (or the reference clip's own feature) as the guidance
 # target, and generate; the cell after it prints the same function's numbers for the three prototypes of "old".
 
 # %%
@@ -313,105 +304,82 @@ _ = fig
 # **Diversity** (mean distance between the evaluator's features of the outputs, the bench's column) and
 # the same on the style classifier's features alone ("style Diversity"), the closest we have to "how
 # different do the *styles* look".
-
-# %%
-from mslib.checkpoints import checkpoint_digest
-findings = load_findings("06_clusterstyle_findings", required=False)  # written by tools/clusterstyle_findings.py
-latent_now = [pipe.vae.cfg.latent_tokens, pipe.vae.cfg.latent_dim]
-for key, part in findings.items():  # a section measured on another course VAE or ClusterStyle checkpoint
-    name = "clusterstyle_t2m" if key == "table3" else "clusterstyle"
-    why = [f"VAE latent {part.get('vae_latent', 'unrecorded')}, not the packaged {latent_now[0]}x{latent_now[1]}"
-           ] if part.get("vae_latent") != latent_now else []
-    why += [f"another {name}.pt"] if part.get("checkpoint") != checkpoint_digest(name) else []
-    if why:
-        print(f"note: the '{key}' findings measured {' and '.join(why)}: re-run python tools/clusterstyle_findings.py --only {key}")
-if "fig5" in findings:
-    f5 = findings["fig5"]
-    for mode, v in f5["summary"].items():
-        print(f"{mode} ({v['examples']} val examples), mean over examples:")
-        print(f"  {'output set':<24} {'pose cm':>8} {'Diversity':>10} {'style Diversity':>16}")
-        for name in ("prototypes_one_seed", "prototypes_paired_seeds", "seeds"):
-            m = v[name]
-            print(f"  {name:<24} {m['pose_cm']:>8.1f} {m['diversity']:>10.1f} {m['style_diversity']:>16.1f}")
-        wins = ", ".join(f"{k} {n}/{v['examples']}" for k, n in v["paired_beats_seeds"].items())
-        print(f"  prototype k + seed k more diverse than seeds alone in: {wins}")
-        alone = v["prototypes_one_seed"]["pose_cm"] > v["seeds"]["pose_cm"]
-        print(f"  prototypes alone {'more' if alone else 'LESS'} diverse in pose than seeds alone; "
-              f"outputs nearest the prototype used: {v['hit_rate']:.0f}% (chance {f5['chance_hit_rate']:.0f}%)")
-else:
-    print("no findings yet: run python tools/clusterstyle_findings.py")
-
-# %% [markdown]
-# How to read these lines. The last one in each block tests the mechanism: if prototype $k$ steers the
+#
+# How to read the lines below. The last one in each block tests the mechanism: if prototype $k$ steers the
 # output towards sub-style $k$, the output's own global feature lands nearest prototype $k$ far more often
 # than chance. The "alone" comparison asks whether swapping prototypes changes a motion more than
 # re-drawing the noise does; the "on top of" counts ask whether a set that varies both is more diverse
 # than a set that varies the seed only, example by example. The three measures need not agree: pose
 # distance is dominated by timing and content, the style classifier's features by style.
 
+# %%
+findings = load_findings("06_clusterstyle_findings")  # written by tools/clusterstyle_findings.py
+f5 = findings["fig5"]
+print(readable_command(f5["command"]))
+for mode, v in f5["summary"].items():
+    print(f"{mode} ({v['examples']} val examples), mean over examples:")
+    print(f"  {'output set':<24} {'pose cm':>8} {'Diversity':>10} {'style Diversity':>16}")
+    for name in ("prototypes_one_seed", "prototypes_paired_seeds", "seeds"):
+        m = v[name]
+        print(f"  {name:<24} {m['pose_cm']:>8.1f} {m['diversity']:>10.1f} {m['style_diversity']:>16.1f}")
+    wins = ", ".join(f"{k} {n}/{v['examples']}" for k, n in v["paired_beats_seeds"].items())
+    print(f"  prototype k + seed k more diverse than seeds alone in: {wins}")
+    alone = v["prototypes_one_seed"]["pose_cm"] > v["seeds"]["pose_cm"]
+    print(f"  prototypes alone {'more' if alone else 'LESS'} diverse in pose than seeds alone; "
+          f"outputs nearest the prototype used: {v['hit_rate']:.0f}% (chance {f5['chance_hit_rate']:.0f}%)")
+
 # %% [markdown]
 # ## 8. Style transfer by SDEdit
 # To restyle an existing motion (D App. C), encode it with the VAE, noise the latent to step $t_0$ with
 # $q(z_{t_0}\mid z_0)$, and denoise from there with the style condition and guidance. $t_0$ trades
 # content for style: a small $t_0$ keeps the content's latent almost intact, a large one lets the style
-# rewrite more. The two evaluator classifiers read each output:
+# rewrite more. The demo pair is the one notebooks 03 and 04 use, chosen by the same rule (the first benchmark
+# pair whose style clip is not neutral, is read as its own style, and has another content), so you can compare
+# the methods on it. The two evaluator classifiers read each output; below the strip, the course $t_0$'s output
+# with its style cues over time (grey content, orange style clip, blue output).
 
 # %%
-angry = first("angry")["features"].numpy()
+(demo_c, demo_s), = demo_pairs(load_pairs(seed=0, n_pairs=40), evaluator.read_style)
+target = demo_s["style"]
 t0s = (200, 400, 600, 800)
-outs = [decode(pipe.transfer(c_raw, angry, caption=walk["caption"], t0=t0, seed=0)) for t0 in t0s]
+outs = [decode(pipe.transfer(demo_c["features"], demo_s["features"], caption=demo_c["caption"], t0=t0, seed=0)) for t0 in t0s]
 c_pred = evaluator.content.score(outs)[0].argmax(1)
 s_logits = evaluator.style.score(outs)[0]
-s_prob = torch.softmax(torch.as_tensor(s_logits), 1)[:, evaluator.style.classes.index("angry")]
-s_top = s_logits.argmax(1)
-for t0, cp, sp, st_ in zip(t0s, c_pred, s_prob, s_top):
-    print(f"t0 = {t0}: content classifier says {evaluator.content.classes[cp]!r}, "
-          f"style classifier says {evaluator.style.classes[st_]!r}, P(angry) = {float(sp):.2f}")
-fig = viz.plot_strip([walk["joints"].numpy()] + outs, n_frames=5, row_labels=["content (walk)"] + [f"t0 = {t} → angry" for t in t0s])
+s_prob = torch.softmax(torch.as_tensor(s_logits), 1)[:, evaluator.style.classes.index(target)]
+for t0, cp, sp, st_ in zip(t0s, c_pred, s_prob, s_logits.argmax(1)):
+    print(f"t0 = {t0}: content classifier says {evaluator.content.classes[cp]!r} (content {demo_c['content']!r}), "
+          f"style classifier says {evaluator.style.classes[st_]!r}, P({target}) = {float(sp):.2f}")
+fig = viz.plot_strip([demo_c["joints"]] + outs, n_frames=5,
+                     row_labels=[f"content ({demo_c['content']})"] + [f"t0 = {t} → {target}" for t in t0s])
 _ = fig
+
+# %%
+course_out = outs[t0s.index(pipe.cfg.t0)]  # the course preset's t0
+fig = plot_transfer(demo_c["joints"], demo_s["joints"], course_out,
+                    titles=[f"content: {demo_c['content']}", f"style: {target} ({demo_s['content']})", f"t0 = {pipe.cfg.t0}"])
 
 # %% [markdown]
 # ### Where the style comes from: the guidance weight
 # The guidance weight $w$ is not in our copy of D, and its scale depends on the latent. Measure it: the
 # gradient of the cosine with respect to the noisy latent, against the size of a noise prediction, for the
-# walk above noised to $t = 200$ and the angry reference:
+# walk of §7 noised to $t = 200$ and the demo style clip. The grid of $(w, s_s)$ that set the preset's $w$ on
+# validation pairs (`tools/clusterstyle_findings.py --only guidance`) is tabled in appendix 08; the last line
+# below reads from it what the SMA's style branch ($s_s$) costs or buys at the preset's $w$ — the course keeps the
+# branch on because the adapter is D's method.
 
 # %%
 z0 = pipe.vae.encode(pipe.normalize(c_raw)[None])
 t_g = torch.tensor([200])
 z_t = pipe.model.sched.q_sample(z0, t_g, torch.randn(z0.shape, generator=torch.Generator().manual_seed(0)))
 eps = torch.randn(z0.shape, generator=torch.Generator().manual_seed(1))
-ref_tokens = pipe.style_tokens(angry)
+ref_tokens = pipe.style_tokens(demo_s["features"])
 grad = pipe.guidance_grad(z_t, t_g, eps, len(c_raw), ("global", ref_tokens[0, 0]))
 print(f"|∇ cos| = {float(grad.norm()):.2f}, |ε| = {float(eps.norm()):.0f}: w·√(1−ᾱ)·|∇ cos| reaches |ε|/10 "
       f"only for w ≈ {float(eps.norm()) / 10 / float(grad.norm()) / float((1 - pipe.model.sched.alphas_cumprod[200]) ** 0.5):.0f}")
-
-# %% [markdown]
-# The findings script's `guidance` step scores a small grid of $(w, s_s)$ on 96 pairs from the
-# *validation* splits (the benchmark's test pairs are never used to choose settings):
-
-# %%
-if "guidance" in findings:
-    gd = findings["guidance"]
-    print(f"{gd['pairs']} {gd['split']} pairs, t0 = 600, s_t = 2.5")
-    print(f"{'w':>6} {'s_s':>5} {'CRA':>6} {'SRA':>6} {'H':>6}")
-    for r in gd["rows"]:
-        print(f"{r['weight']:>6g} {r['cfg_style']:>5g} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.2f}")
-    best = max(gd["rows"], key=lambda r: r["h"])
-    print(f"highest H on this grid: w = {best['weight']:g}, s_s = {best['cfg_style']:g}; "
-          f"the course preset: w = {pipe.cfg.guide_weight:g}, s_s = {pipe.cfg.cfg_style:g}")
-    at = {r["cfg_style"]: r for r in gd["rows"] if r["weight"] == pipe.cfg.guide_weight}
-    if {0.0, 1.0} <= set(at):
-        print(f"at w = {pipe.cfg.guide_weight:g}: SMA style branch off (s_s = 0) H {at[0.0]['h']:.2f} "
-              f"(CRA {at[0.0]['cra']:.0f}, SRA {at[0.0]['sra']:.0f}); on (s_s = 1) H {at[1.0]['h']:.2f} "
-              f"(CRA {at[1.0]['cra']:.0f}, SRA {at[1.0]['sra']:.0f})")
-else:
-    print("no guidance grid yet: run python tools/clusterstyle_findings.py --only guidance")
-
-# %% [markdown]
-# The preset keeps the SMA's style branch in the loop ($s_s = 1$), because the adapter is D's method;
-# the last line above measures what it costs or buys on this data at the preset's $w$ — compare the two
-# rows before you decide what the adapter contributes.
+grid = {(r["weight"], r["cfg_style"]): r for r in findings["guidance"]["rows"]}
+on, off = grid[(pipe.cfg.guide_weight, 1.0)], grid[(pipe.cfg.guide_weight, 0.0)]
+print(f"val pairs, w = {pipe.cfg.guide_weight:g}: style branch on (s_s = 1) H {on['h']:.2f} (CRA {on['cra']:.0f}, SRA {on['sra']:.0f}); "
+      f"off (s_s = 0) H {off['h']:.2f} (CRA {off['cra']:.0f}, SRA {off['sra']:.0f})")
 
 # %% [markdown]
 # ## 9. D Table 3: clustering vs a classification head
@@ -420,71 +388,50 @@ else:
 # SMA stage a few hundred steps), scoring generated transfers with the independent evaluator:
 
 # %%
-if "table3" in findings:
-    t3 = findings["table3"]
-    print(f"SMA stage {t3['sma_steps']} steps, {t3['pairs']} benchmark pairs")
-    print(f"{'style encoder':<26} {'enc. acc':>8} {'SRA':>6} {'CRA':>6} {'H':>6}")
-    for r in t3["rows"]:
-        name = "prototype clustering" if r["head"] == "prototypes" else "classification head (CE)"
-        print(f"{name:<26} {r['encoder_acc']:>8.1f} {r['sra']:>6.1f} {r['cra']:>6.1f} {r['h']:>6.2f}")
-    sra = {r["head"]: r["sra"] / 100 for r in t3["rows"]}
-    se = 100 * np.sqrt(sum(p * (1 - p) for p in sra.values()) / t3["pairs"])  # s.e. of the SRA difference
-    diff = 100 * (sra["prototypes"] - sra["classifier"])
-    print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {se:.1f} points → "
-          f"{'the direction of D Table 3' if diff > 0 else 'NOT the direction of D Table 3'}"
-          f"{', within noise' if abs(diff) < 2 * se else ''}")
-else:
-    print("no findings yet: run python tools/clusterstyle_findings.py")
+t3 = findings["table3"]
+print(f"SMA stage {t3['sma_steps']} steps, {t3['pairs']} benchmark pairs")
+print(f"{'style encoder':<26} {'enc. acc':>8} {'SRA':>6} {'CRA':>6} {'H':>6}")
+for r in t3["rows"]:
+    name = "prototype clustering" if r["head"] == "prototypes" else "classification head (CE)"
+    print(f"{name:<26} {r['encoder_acc']:>8.1f} {r['sra']:>6.1f} {r['cra']:>6.1f} {r['h']:>6.2f}")
+sra = {r["head"]: r["sra"] / 100 for r in t3["rows"]}
+se = 100 * np.sqrt(sum(p * (1 - p) for p in sra.values()) / t3["pairs"])  # s.e. of the SRA difference
+diff = 100 * (sra["prototypes"] - sra["classifier"])
+print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {se:.1f} points → "
+      f"{'the direction of D Table 3' if diff > 0 else 'NOT the direction of D Table 3'}"
+      f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
+# **D Table 3 does not reproduce here**: in these short runs the plain classification head gives the adapter
+# more style (SRA) than the clustering, though by less than two standard errors. What the prototypes do buy is the
+# diversity of §7.
+#
 # ## 10. On the benchmark
 # The default draw (seed 0, 200 held-out pairs; notebook 07 compares every method): SDEdit from
 # $t_0 = 600$, 20 DDIM steps, CFG and reference-feature guidance. 200 guided SDEdit transfers take a few
 # minutes on a laptop CPU, so the rows come from the findings script's `bench` step (the same
-# `run_bench` calls as `python -m mslib bench --method clusterstyle,identity,copy_style`); without that
-# file they are computed here.
+# `run_bench` calls as `python -m mslib bench --method clusterstyle,identity,copy_style`). The course VAE is
+# notebook 04's, whose §1 measures how much style its decoder can give back at all: a ceiling for both methods.
+
 
 # %%
-if "bench" in findings:
-    rows = findings["bench"]["rows"]
-else:
-    pairs = load_pairs(seed=0, n_pairs=200)
-    rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("clusterstyle", "identity", "copy_style")]
+rows = findings["bench"]["rows"]
 print(format_table(rows, notebook=True))
 h = {r["method"]: r["h"] for r in rows}
 print(f"H ≥ 0.65 (the workbook's bar): {h['clusterstyle'] >= 0.65}; above identity and copy_style: "
       f"{h['clusterstyle'] > max(h['identity'], h['copy_style'])}")
 
 # %% [markdown]
-# ### The latent space sets a ceiling
-# Every output of a latent diffusion model is a decoding of the VAE, so an output can be no more stylised
-# than what the decoder can express. Push the *reference style clips themselves* through the shared
-# course VAE (encode, decode) and ask the same style classifier:
+# ## Exercises
+# **Exercise 1 (2 points) — Sinkhorn–Knopp by hand.** Write `balance(scores, eps, iters)`: from the (N, K)
+# similarity matrix form $Q = \exp(\text{scores}/\varepsilon)$ (subtract the maximum first, for stability),
+# normalise it to total mass 1, then `iters` times: divide every column by its sum and by $K$, then every row by
+# its sum and by $N$. Return $N\cdot Q$ (rows sum to 1). A hidden test tries other shapes.
 
-# %%
-vae = pipe.vae
-raw = [style_test[i]["features"].numpy().astype(np.float64) for i in range(len(style_test))]
-rec = vae.decode_raw(vae.encode_raw(raw), [len(r) for r in raw])
-true = np.array([evaluator.style.classes.index(style_test.rows[i]["style"]) for i in range(len(style_test))])
-print(f"course VAE latent: {vae.cfg.latent_tokens} tokens x {vae.cfg.latent_dim} ({vae.cfg.arch})")
-for name, motions in (("the style test clips", [decode(r) for r in raw]), ("their VAE reconstructions", [decode(r) for r in rec])):
-    acc = float((evaluator.style.score(motions)[0].argmax(1) == true).mean())
-    print(f"style classifier on {name:<26} {100 * acc:5.1f}%")
-
-# %% [markdown]
-# The gap between the two lines is style the decoder cannot give back, whatever the adapter or the
-# guidance do. (An earlier course VAE, 4 tokens × 64, lost most of it; the temporal conv latent keeps
-# much more.) Whatever lies between this ceiling and the bench SRA is up to the denoiser and the adapter,
-# here trained for CPU minutes.
-
-# %% [markdown]
-# ## Exercise: Sinkhorn–Knopp by hand
-# Write `balance(scores, eps, iters)`: from the (N, K) similarity matrix form $Q = \exp(\text{scores}/\varepsilon)$
-# (subtract the maximum first, for stability), normalise it to total mass 1, then `iters` times: divide
-# every column by its sum and by $K$, then every row by its sum and by $N$. Return $N\cdot Q$ (rows sum to 1).
-
-# %%
+# %% [nbgrader solution id=ex06_sinkhorn]
 def balance(scores, eps=0.05, iters=3):
+    """Sinkhorn–Knopp: soft assignments (N, K) of N features to K prototypes, rows summing to 1, columns used equally."""
+    ### BEGIN SOLUTION
     q = torch.exp((scores - scores.max()) / eps)
     q = q / q.sum()
     n, k = q.shape
@@ -492,12 +439,47 @@ def balance(scores, eps=0.05, iters=3):
         q = q / q.sum(0, keepdim=True) / k
         q = q / q.sum(1, keepdim=True) / n
     return q * n
+    ### END SOLUTION
 
-# %%
-# check: your balance matches the library's, every row sums to 1, and the toy's prototypes are used evenly
+# %% [nbgrader tests id=ex06_sinkhorn_check points=2]
 q_mine = balance(scores.double(), 0.05, 3)
-assert torch.allclose(q_mine, P.sinkhorn(scores.double(), 0.05, 3), atol=1e-6)
-assert torch.allclose(q_mine.sum(1), torch.ones(len(scores), dtype=torch.double), atol=1e-6)
+assert torch.allclose(q_mine, P.sinkhorn(scores.double(), 0.05, 3), atol=1e-6), "compare with P.sinkhorn on the toy"
+assert torch.allclose(q_mine.sum(1), torch.ones(len(scores), dtype=torch.double), atol=1e-6), "rows must sum to 1"
+### BEGIN HIDDEN TESTS
+gen = torch.Generator().manual_seed(5)
+for n_, k_ in ((12, 4), (30, 6)):
+    s_ = torch.randn(n_, k_, generator=gen, dtype=torch.double)
+    assert torch.allclose(balance(s_, 0.1, 5), P.sinkhorn(s_, 0.1, 5), atol=1e-6)
+### END HIDDEN TESTS
 counts = torch.bincount(balance(scores.double(), 0.05, 50).argmax(1), minlength=3)
-assert int(counts.max() - counts.min()) <= 2, counts
 print("balance() reproduces Sinkhorn–Knopp; 50 iterations use the prototypes", counts.tolist())
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** *Predict* first: in SDEdit, does a larger $t_0$ move the output
+# **further** from the content's pose or **closer** to it? Write `prediction = "further"` or `"closer"`. Then
+# measure `moved[t0]` for $t_0$ = 200 and 800 from the strip's outputs `outs` (§8): the mean over frames and joints
+# of the distance (in cm) between the output's and the content's joints, both taken relative to their root joint
+# (`m - m[:, :1]`), over the frames both have. The hidden test grades the prediction against your measurement.
+
+# %% [nbgrader solution id=ex06_predict_t0]
+### BEGIN SOLUTION
+prediction = "further"
+def pose_moved(a, b):
+    n = min(len(a), len(b))
+    ra, rb = a[:n] - a[:n, :1], b[:n] - b[:n, :1]
+    return float(100 * np.linalg.norm(ra - rb, axis=-1).mean())
+moved = {t0: pose_moved(outs[t0s.index(t0)], demo_c["joints"]) for t0 in (200, 800)}
+### END SOLUTION
+
+# %% [nbgrader tests id=ex06_predict_t0_check points=1]
+assert prediction in ("further", "closer"), "prediction: 'further' or 'closer'"
+assert set(moved) == {200, 800} and all(v > 0 for v in moved.values()), "moved: a distance in cm for t0 = 200 and 800"
+### BEGIN HIDDEN TESTS
+def _moved(a, b):
+    n = min(len(a), len(b))
+    return float(100 * np.linalg.norm((a[:n] - a[:n, :1]) - (b[:n] - b[:n, :1]), axis=-1).mean())
+ref = {t0: _moved(outs[t0s.index(t0)], demo_c["joints"]) for t0 in (200, 800)}
+assert all(abs(moved[k] - ref[k]) < 1e-6 for k in ref), "root-relative joints, over the frames both motions have, in cm"
+assert prediction == ("further" if ref[800] > ref[200] else "closer")
+### END HIDDEN TESTS
+print("checked")
