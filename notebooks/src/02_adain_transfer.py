@@ -1,3 +1,5 @@
+
+
 # %% [markdown]
 # # 02 · AdaIN style transfer with dual-path training (paper A, stage 1)
 #
@@ -13,7 +15,7 @@
 # - how a short training run behaves on train and validation (A Table 1);
 # - one content in all eight styles, and where A's "dynamic" and "static" noise come from (A Fig. 2);
 # - how the method scores on the benchmark against the two reference rows;
-# - why the course model reads content and style with one encoder, measured against A's separate one.
+# - how the recipe was chosen (the search itself is in appendix 08); then two exercises.
 
 # %%
 import mslib
@@ -25,7 +27,7 @@ import torch
 import matplotlib.pyplot as plt
 
 from mslib import viz
-from mslib.checkpoints import checkpoint_digest, course_path
+from mslib.checkpoints import course_path
 from mslib.data.corpora import load_builtin
 from mslib.data.datasets import ContentClips, StyleClips
 from mslib.data.styles import STYLES
@@ -33,6 +35,10 @@ from mslib.models import adain as A
 from mslib.models.common.layers import adain, channel_stats
 from mslib.motion.features import decode
 from mslib.training import TrainConfig
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+from mslib.evaluation.cues import cue_tracks
+from mslib.evaluation.transfer_figure import plot_transfer
+from mslib.notebook import demo_pairs, demo_style, load_findings
 
 paths = load_builtin(progress=False)
 
@@ -82,7 +88,7 @@ _ = fig
 #   positions. The course model instead reads the style motion with the **same** encoder, $C_s = E_c(P_s)$,
 #   so AdaIN moves the statistics of the same channels it normalises — as in the image methods A builds
 #   on (Gatys et al.; Huang & Belongie), where one fixed network both supplies and judges the statistics.
-#   Section 8 measures why (`AdainConfig(shared_encoder=False)` is A's version; the `paper` preset uses it).
+#   Appendix 08 tables why (`AdainConfig(shared_encoder=False)` is A's version; the `paper` preset uses it).
 # - **AdaIN** on the channel statistics over time, then a **decoder** back to 263-d. The output keeps
 #   the content's root trajectory (dims 0..3): where the body goes is content, how it moves is style.
 #
@@ -106,28 +112,36 @@ _ = fig
 # look like; the $\mathcal{L}_{content}$ printed below is A Eq. 4 on the content clips alone.
 
 # %%
-def box(ax, xy, text, color):
-    ax.text(*xy, text, ha="center", va="center", fontsize=8,
-            bbox=dict(boxstyle="round,pad=0.4", fc=color, ec="0.3"))
-
-def arrow(ax, a, b, color="0.3"):
-    ax.annotate("", xy=b, xytext=a, arrowprops=dict(arrowstyle="->", color=color, lw=1.2))
-
-fig, ax = plt.subplots(figsize=(9, 3.4))
-ax.set_xlim(0, 10); ax.set_ylim(0, 4); ax.axis("off")
-box(ax, (0.9, 3.2), "content $P_c$\n263-d", "#cfe2ff"); box(ax, (0.9, 0.8), "style $P_s$\n263-d", "#ffd8b1")
-box(ax, (2.9, 3.2), "$E_c$ (conv)", "#e7f1ff"); box(ax, (2.9, 0.8), "$E_c(P_s)$", "#fff0e0")
-box(ax, (2.9, 2.0), "$\\mu,\\sigma$ of $E_c(P_c)$", "#fff0e0")
-box(ax, (5.0, 3.2), "AdaIN($C_c$, $\\mu,\\sigma$ of $P_c$)", "#e8f5e9")
-box(ax, (5.0, 0.8), "AdaIN($C_c$, $\\mu,\\sigma$ of $C_s$)", "#e8f5e9")
-box(ax, (7.0, 3.2), "decoder → $P_{c\\to c}$", "#f3e5f5"); box(ax, (7.0, 0.8), "decoder → $P_{c\\to s}$", "#f3e5f5")
-box(ax, (9.0, 3.2), "$\\mathcal{L}_{content}$\nvs $P_c$", "white"); box(ax, (9.0, 0.8), "$\\mathcal{L}_{style}$\nfrozen $E_c(P_{c\\to s})$ vs $C_s$", "white")
-for a, b in (((1.5, 3.2), (2.3, 3.2)), ((1.5, 0.8), (2.2, 0.8)), ((1.3, 2.9), (2.5, 2.1)), ((3.5, 3.2), (3.7, 3.2)),
-             ((3.4, 2.1), (4.0, 3.0)), ((3.4, 3.0), (3.9, 1.0)), ((3.7, 0.8), (3.75, 0.8)), ((6.3, 3.2), (6.2, 3.2)),
-             ((6.3, 0.8), (6.2, 0.8)), ((7.9, 3.2), (8.4, 3.2)), ((7.9, 0.8), (8.2, 0.8))):
-    arrow(ax, a, b)
-ax.text(5.0, 3.85, "self-reconstruction path", ha="center", fontsize=9, weight="bold")
-ax.text(5.0, 0.1, "stylization path (style clips from the other corpus)", ha="center", fontsize=9, weight="bold")
+# The two paths as boxes and arrows, left to right; E_c is one encoder (shared), frozen in the second step.
+fig, ax = plt.subplots(figsize=(10, 3.2))
+ax.set_xlim(0, 10.5); ax.set_ylim(0, 4); ax.axis("off")
+W, H = 1.2, 0.75
+def box(x, y, text, color, w=W):
+    ax.add_patch(plt.Rectangle((x - w / 2, y - H / 2), w, H, facecolor=color, edgecolor="0.3", lw=0.8))
+    ax.text(x, y, text, ha="center", va="center", fontsize=7.5)
+def arrow(a, b):  # from box centre a to box centre b, edge to edge
+    (x0, y0), (x1, y1) = a, b
+    start = (x0 + W / 2, y0) if y0 == y1 else (x0, y0 - H / 2)
+    end = (x1 - W / 2, y1) if y0 == y1 else (x1 - W / 2, y1 + 0.1)
+    ax.annotate("", xy=end, xytext=start, arrowprops=dict(arrowstyle="->", color="0.25", lw=1.1))
+top, bot = 3.0, 1.0
+xs = (0.65, 2.05, 3.45, 4.85, 6.25, 7.65, 9.45)  # the last box (the loss) is wider
+box(xs[0], top, "content $P_c$\n263-d", "#cfe2ff"); box(xs[1], top, "$E_c$", "#e7f1ff")
+box(xs[2], top, "$C_c = E_c(P_c)$", "#e7f1ff"); box(xs[3], top, "AdaIN($C_c$;\n$\\mu,\\sigma$ of $C_c$)", "#e8f5e9")
+box(xs[4], top, "decoder", "#f3e5f5"); box(xs[5], top, "$P_{c\\to c}$", "#f3e5f5")
+box(xs[6], top, "$\\mathcal{L}_{content}$:\nvs $P_c$", "white", w=1.8)
+box(xs[0], bot, "style $P_s$\n263-d", "#ffd8b1"); box(xs[1], bot, "$E_c$ (same)", "#fff0e0")
+box(xs[2], bot, "$C_s = E_c(P_s)$", "#fff0e0"); box(xs[3], bot, "AdaIN($C_c$;\n$\\mu,\\sigma$ of $C_s$)", "#e8f5e9")
+box(xs[4], bot, "decoder", "#f3e5f5"); box(xs[5], bot, "$P_{c\\to s}$", "#f3e5f5")
+box(xs[6], bot, "$\\mathcal{L}_{style}$: $\\mu,\\sigma$ of\n$E_c(P_{c\\to s})$ vs $C_s$", "white", w=1.8)
+for y in (top, bot):
+    for a, b in zip(xs[:5], xs[1:6]):
+        arrow((a, y), (b, y))
+    ax.annotate("", xy=(xs[6] - 0.9, y), xytext=(xs[5] + W / 2, y), arrowprops=dict(arrowstyle="->", color="0.25", lw=1.1))
+ax.annotate("", xy=(xs[3] - W / 2, bot + 0.2), xytext=(xs[2], top - H / 2),  # C_c feeds the stylization path too
+            arrowprops=dict(arrowstyle="->", color="0.25", lw=1.1))
+ax.text(5.2, 3.75, "self-reconstruction path (A Eq. 4)", ha="center", fontsize=9, weight="bold")
+ax.text(5.2, 0.2, "stylization path (A Eq. 3; style clips from the other corpus)", ha="center", fontsize=9, weight="bold")
 _ = fig
 
 # %% [markdown]
@@ -170,7 +184,7 @@ _ = fig
 # minutes on one CPU core: the autoencoder steps, then the decoder steps), the same command as the
 # fallback below. The course preset counts the content path twice in A Eq. 5 ($\lambda_{content} = 2$):
 # `tools/adain_variants.py --only recipes` trained that recipe and the plain one on two seeds each and
-# scored them on the val pairs of section 8; the recipe and the seed were chosen there, by a rule written
+# scored them on val pairs (appendix 08 tables the search); the recipe and the seed were chosen there, by a rule written
 # down before the last run was scored, never on the benchmark's test pairs. Its history travels with it:
 # the final validation content loss stays close to the training one, so the model reconstructs unseen
 # clips as well as seen ones.
@@ -190,19 +204,30 @@ print(f"L_content  train {train_c:.3f}  val {hist['val']['content'][-1]:.3f}  "
 print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist['val']['style'][-1]:.4f}")
 
 # %% [markdown]
-# ## 5. One content motion in all eight styles
-# A walk from the content corpus's test split, transferred with one test clip of each style from the
-# style corpus. Each style clip is only 32 frames; its statistics are enough.
+# ## 5. What moved? One content in four styles, and a demo pair with its cues
+# A walk from the content corpus's test split, transferred with one test clip of each of the four styles stage 1
+# moved most often on **validation** pairs (by the evaluator's reading, `tools/adain_variants.py`). Stick figures
+# of one walk in four styles look much alike at this size: AdaIN moves statistics, so look for a lower head, a
+# forward lean, a smaller swing. The numbers below the strip give two posture cues (the mean over the clip) of
+# the content, of each output and of its style clip: the output sits between the two where the style moved.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
 style_test = StyleClips(paths["style"], "test", normalize=False)
 walk = next(content_test[i] for i in range(len(content_test)) if content_test[i]["content"] == "walk")
-style_items = {s: next(style_test[i] for i in range(len(style_test)) if style_test[i]["style"] == s) for s in STYLES}
+by_style = load_findings("02_adain_variants")["strength"]["by_style"]  # val pairs, the packaged model
+shown = [r["style"] for r in sorted((r for r in by_style if r["style"] != "neutral"), key=lambda r: -r["sra"])[:4]]
+style_items = {s: next(style_test[i] for i in range(len(style_test)) if style_test[i]["style"] == s) for s in shown}
 c_feat = walk["features"].numpy().astype(np.float64)
 outputs = {s: model.transfer(c_feat, it["features"].numpy()) for s, it in style_items.items()}
-fig = viz.plot_strip([walk["joints"].numpy()] + [outputs[s] for s in STYLES], n_frames=5,
-                     row_labels=["content"] + list(STYLES))
+fig = viz.plot_strip([walk["joints"].numpy()] + [outputs[s] for s in shown], n_frames=5, row_labels=["content"] + shown)
+mean_cue = lambda m, cue: float(cue_tracks(m)[cue].mean())  # noqa: E731
+content_pos = walk["joints"].numpy()
+print(f"{'':<10} {'head height (L)':^27} {'trunk pitch (deg)':^27}")
+print(f"{'style':<10} " + f"{'content':>9}{'output':>9}{'clip':>9}" * 2)
+for s in shown:
+    trio = (content_pos, outputs[s], decode(style_items[s]["features"].numpy()))
+    print(f"{s:<10} " + "".join(f"{mean_cue(m, c):>9.2f}" for c in ("head_height", "trunk_pitch") for m in trio))
 _ = fig
 
 # %% [markdown]
@@ -211,20 +236,33 @@ _ = fig
 
 # %%
 # NBVAL_IGNORE_OUTPUT
-viz.MotionViewer([walk["joints"].numpy()] + [outputs[s] for s in ("angry", "depressed", "old", "proud")],
-                 titles=["content", "angry", "depressed", "old", "proud"])
+viz.MotionViewer([walk["joints"].numpy()] + [outputs[s] for s in shown], titles=["content"] + shown)
+
+# %% [markdown]
+# **The demo pair.** The pair notebooks 03–07 share, chosen by a rule fixed before any output was looked at: the
+# first benchmark test pair whose style clip is not neutral, is read as its own style by the evaluator, and has
+# another content than the content clip. Beside the strip, three style cues over time (head height, trunk pitch,
+# how far the left wrist leads the right, in leg lengths L): grey the content, orange the style clip, blue the
+# transfer. Where blue leaves grey toward orange, the style moved.
+
+# %%
+evaluator = Evaluator()
+pairs = load_pairs(seed=0, n_pairs=200)
+(demo_c, demo_s), = demo_pairs(pairs, evaluator.read_style)
+demo_out = model.transfer(demo_c["features"], demo_s["features"])
+fig = plot_transfer(demo_c["joints"], demo_s["joints"], demo_out,
+                    titles=[f"content: {demo_c['content']}", f"style: {demo_s['style']} ({demo_s['content']})", "AdaIN transfer"])
+print("the evaluator reads the transfer as:", evaluator.read_style(demo_out))
 
 # %% [markdown]
 # **Try it.** The explorer below runs the packaged model live: pick a content clip, a style and a method, and
 # compare the output with its content and style clips; the bars are the independent style classifier's
-# probabilities for the output. It opens on the style stage 1 moves most reliably: the non-neutral style whose
-# transfers the evaluator recognised most often on the **val** pairs (`tools/adain_variants.py`), so the first
-# thing you see is a transfer that works — then try the others, where it often does not. The cell after it
-# calls the same function with fixed choices and prints them.
+# probabilities for the output. It opens on the style stage 1 moves most reliably on the **val** pairs, the first
+# of the strip's four; then try the others, where it often does not. The cell after it calls the same function
+# with fixed choices and prints them.
 
 # %%
-from mslib.notebook import demo_style, load_findings
-DEMO = demo_style(load_findings("02_adain_variants")["strength"]["by_style"])
+DEMO = demo_style(by_style)
 print(f"demo style: {DEMO}")
 
 # %%
@@ -245,10 +283,8 @@ print(transfer_view("c00000", DEMO, "adain").summary())
 # - **pose offset**: the mean joint distance (m) to the content motion.
 
 # %%
-from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
 from mslib.evaluation.metrics import ADAIN_HALVES as modes, transfer_noise
 
-pairs = load_pairs(seed=0, n_pairs=200)
 fig2 = transfer_noise(model, pairs[:40])  # per pair: (jitter, pose offset) of the content and each half
 print(f"{'transfer':<14} {'jitter m/s²':>11} {'pose offset m':>13}")
 for name, vals in fig2.items():
@@ -285,7 +321,6 @@ print("of the two halves, more jitter:", max(halves, key=lambda n: np.mean(fig2[
 # content accuracy (CRA), style accuracy (SRA) and their harmonic mean H.
 
 # %%
-evaluator = Evaluator()
 rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("adain", "identity", "copy_style")]
 print(format_table(rows, notebook=True))
 h = {r["method"]: r["h"] for r in rows}
@@ -295,76 +330,68 @@ print(f"H: adain − identity {h['adain'] - h['identity']:+.2f}, adain − copy_
 # An honest reading: the course model clears both reference rows but stays below the workbook's bar of
 # 0.65 for a method — stage 1 alone does not reach it; stage 2 (notebook 05) does. It is a trade, not a
 # free lunch: the style strength
-# that raises SRA lowers CRA (section 8), because a style clip's statistics carry some of its
+# that raises SRA lowers CRA (exercise 2 measures it), because a style clip's statistics carry some of its
 # *content* too (a kick's raised leg) along with its style, and AdaIN cannot tell the two apart.
 # Notebook 07 places this row beside the other papers' methods.
 
 # %% [markdown]
-# ## 8. Why the course model shares its encoder
-# `python tools/adain_variants.py` trains three versions of stage 1 with the course sizes and scores
-# them on pairs from the **val** splits (never the benchmark's test pairs), at three style strengths
-# $w$ — the statistics AdaIN applies are $\mu_c + w(\mu_s-\mu_c)$ and likewise for $\sigma$, Huang &
-# Belongie's content–style trade-off:
-# - `separate_joint`: A §3.2.1 as written, a transformer $E_s$ on joint positions trained together
-#   with everything else (the decoder also sees the content through a skip);
-# - `separate_frozen`: the same $E_s$, first trained as part of an autoencoder, then frozen as the
-#   network A Eq. 3 measures with;
-# - `shared_frozen`: the course recipe above.
-#
-# It also scores the packaged checkpoint at several $w$: how the course preset's `style_strength`
-# was chosen (on val pairs, before the benchmark was run).
-
-# %%
-found = load_findings("02_adain_variants", required=False)  # written by tools/adain_variants.py
-if "variants" in found:
-    print(f"{'variant':<16} {'w':>5} {'CRA':>6} {'SRA':>6} {'H':>6}   ({found['variants']['val_pairs']} val pairs, "
-          f"{found['variants']['steps']} decoder steps)")
-    for r in found["variants"]["rows"]:
-        print(f"{r['variant']:<16} {r['strength']:>5.2f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['h']:>6.3f}")
-    best = {}
-    for r in found["variants"]["rows"]:
-        best[r["variant"]] = max(best.get(r["variant"], 0.0), r["h"])
-    print("best H per variant:", {k: round(v, 3) for k, v in best.items()})
-if "strength" in found:
-    st = found["strength"]
-    if st["checkpoint"] != checkpoint_digest("adain"):
-        print("note: measured on another adain.pt: re-run python tools/adain_variants.py --only strength")
-    print(f"packaged checkpoint on the val pairs (course style_strength = {model.cfg.style_strength}):")
-    for r in st["rows"]:
-        print(f"  w = {r['strength']:.2f}: CRA {r['cra']:5.1f}  SRA {r['sra']:5.1f}  H {r['h']:.3f}")
-if "recipes" in found:
-    rec = found["recipes"]
-    at = {}
-    for r in rec["rows"]:
-        if r["strength"] == model.cfg.style_strength:
-            at.setdefault(r["recipe"], {})[r["seed"]] = r["h"]
-    print(f"recipes at the course strength, val H by seed: " + "; ".join(
-        f"{k} {', '.join(f's{s} {h:.3f}' for s, h in sorted(v.items()))} (mean {np.mean(list(v.values())):.3f})"
-        for k, v in sorted(at.items())))
-    print(f"adopted: {rec['adopted']}, seed {rec['packaged_seed']} (rule: {rec['rule']})")
-if not found:
-    print("no measurements yet: run python tools/adain_variants.py")
+# ## 8. How the recipe was chosen
+# Three versions of stage 1 were trained with the course sizes and scored on **val** pairs at several style
+# strengths (`python tools/adain_variants.py`): A's separate transformer $E_s$ trained jointly, the same $E_s$
+# frozen after pre-training, and the course recipe's one shared encoder, frozen — which traded content for style
+# best. Appendix 08 tables the search; the lesson for this notebook is the trade itself, which exercise 2 measures.
 
 # %% [markdown]
-# How to read the table: every variant trades content (CRA) for style (SRA) as $w$ grows; what differs is
-# how good the trade is. With a separate $E_s$ — trained jointly, or frozen after pre-training — the decoder
-# gives up far more content at the same strength than with one encoder for both, frozen after
-# pre-training, which has the best H of the three. The strength sweep on the packaged checkpoint shows the
-# same trade at finer steps, and the recipe rows how much one training run's luck moves H.
+# ## Exercises
+# **Exercise 1 (2 points) — mean-only AdaIN by hand (A Eq. 2, one half).** Write `mean_only(x, style_mu)` for a
+# (B, T, C) feature map: keep every channel's spread and shape, move its mean over time to `style_mu` (B, 1, C).
+# Use only tensor operations (no `adain`). A hidden test tries other shapes.
 
-# %% [markdown]
-# ## Exercise: mean-only AdaIN by hand
-# Write `mean_only(x, style_mu)` for a (B, T, C) feature map: keep every channel's spread and shape,
-# move its mean over time to `style_mu` (B, 1, C). Use only tensor operations (no `adain`).
-
-# %%
+# %% [nbgrader solution id=ex02_mean_only]
 def mean_only(x, style_mu):
+    """Mean-only AdaIN: x − μ_t(x) + μ_style, per sample and channel; x (B, T, C), style_mu (B, 1, C)."""
+    ### BEGIN SOLUTION
     return x - x.mean(1, keepdim=True) + style_mu
+    ### END SOLUTION
 
-# %%
-# check
+# %% [nbgrader tests id=ex02_mean_only_check points=2]
 x = torch.randn(2, 30, 5) * 3 + 1
 s_mu = torch.randn(2, 1, 5)
-assert torch.allclose(mean_only(x, s_mu), adain(x, s_mu, torch.ones_like(s_mu), use_std=False), atol=1e-5)
-assert torch.allclose(mean_only(x, s_mu).mean(1, keepdim=True), s_mu, atol=1e-5)
+assert torch.allclose(mean_only(x, s_mu), adain(x, s_mu, torch.ones_like(s_mu), use_std=False), atol=1e-5), \
+    "compare with AdaIN's mean-only switch"
+assert torch.allclose(mean_only(x, s_mu).mean(1, keepdim=True), s_mu, atol=1e-5), "the output's time mean must be style_mu"
+### BEGIN HIDDEN TESTS
+x2, mu2 = torch.randn(3, 7, 11), torch.randn(3, 1, 11)
+assert torch.allclose(mean_only(x2, mu2), adain(x2, mu2, torch.ones_like(mu2), use_std=False), atol=1e-5)
+assert torch.allclose(mean_only(x2, mu2) - mean_only(x2, mu2).mean(1, keepdim=True), x2 - x2.mean(1, keepdim=True), atol=1e-5)
+### END HIDDEN TESTS
 print("mean_only matches AdaIN's mean-only switch")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** The statistics AdaIN applies can be moved only part of the way:
+# $\mu_c + w(\mu_s - \mu_c)$, and likewise for σ (`model.transfer(..., strength=w)`; the course preset uses
+# `model.cfg.style_strength`). *Predict* first: when $w$ doubles from 0.5 to 1.0, does SRA go **up** or **down**?
+# Write `prediction = "up"` or `"down"`. Then measure `sra[w]` for w = 0.5 and 1.0 on the first 40 benchmark pairs
+# (`pairs[:40]`): the percentage of outputs the style classifier reads as the style clip's style
+# (`evaluator.read_style(motion)` names what it reads). The hidden test grades the prediction against your
+# measurement.
+
+# %% [nbgrader solution id=ex02_predict_strength]
+### BEGIN SOLUTION
+prediction = "up"
+sra = {}
+for w in (0.5, 1.0):
+    hits = [evaluator.read_style(model.transfer(c["features"], s["features"], strength=w)) == s["style"] for c, s in pairs[:40]]
+    sra[w] = 100 * float(np.mean(hits))
+### END SOLUTION
+
+# %% [nbgrader tests id=ex02_predict_strength_check points=1]
+assert prediction in ("up", "down"), "prediction: 'up' or 'down'"
+assert set(sra) == {0.5, 1.0} and all(0 <= v <= 100 for v in sra.values()), "sra: a percentage for w = 0.5 and 1.0"
+### BEGIN HIDDEN TESTS
+ref = {w: 100 * float(np.mean([evaluator.read_style(model.transfer(c["features"], s["features"], strength=w)) == s["style"]
+                               for c, s in pairs[:40]])) for w in (0.5, 1.0)}
+assert all(abs(sra[w] - ref[w]) < 1e-6 for w in ref), "measure on pairs[:40] with the course model"
+assert ref[1.0] != ref[0.5] and prediction == ("up" if ref[1.0] > ref[0.5] else "down")
+### END HIDDEN TESTS
+print("checked")
