@@ -46,6 +46,8 @@ def test_plot_transfer_draws_three_strip_rows_and_three_cue_panels():
     cue_axes = fig.axes[3:]
     assert [ax.get_title() for ax in cue_axes] == list(C.TRACKS.values())
     assert all(len(ax.get_lines()) == 3 for ax in cue_axes)  # content, style clip, output
+    with_before = plot_transfer(still(40), walk, walk, before=still(40), before_title="stage 1")
+    assert all(len(ax.get_lines()) == 4 for ax in with_before.axes[3:])  # and the dashed 'before' track
     with pytest.raises(ValueError, match="titles: three needed"):
         plot_transfer(walk, walk, walk, titles=["a", "b"])
     with pytest.raises(ValueError, match="positions"):

@@ -12,8 +12,10 @@ from .cues import FPS, TRACKS, cue_tracks
 ROLE_COLOURS = {"content": "0.55", "style": "tab:orange", "output": "tab:blue"}
 
 
-def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: float = FPS) -> Figure:
-    """Strip rows (content, style clip, output) with the cue tracks of all three beside them; positions (T, 22, 3)."""
+def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: float = FPS, before=None,
+                  before_title: str = "before") -> Figure:
+    """Strip rows (content, style clip, output) with the cue tracks of all three beside them; positions (T, 22, 3).
+    `before`: another output (e.g. before a correction), drawn as a dashed cue track only."""
     motions = {"content": content, "style": style, "output": output}
     tracks = {role: cue_tracks(m) for role, m in motions.items()}  # validates every motion
     titles = list(titles) if titles is not None else list(motions)
@@ -31,10 +33,14 @@ def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: f
             y = tracks[role][cue]
             ax.plot(np.arange(len(y)) / fps, y, color=ROLE_COLOURS[role], lw=2 if role == "output" else 1.3,
                     label=title if i == 0 else None)
+        if before is not None:
+            y = cue_tracks(before)[cue]
+            ax.plot(np.arange(len(y)) / fps, y, color=ROLE_COLOURS["output"], lw=1, ls="--", alpha=0.8,
+                    label=before_title if i == 0 else None)
         ax.set_title(label, fontsize=9)
         ax.tick_params(labelsize=7)
         if i == 2:
             ax.set_xlabel("time (s)", fontsize=8)
-    fig.legend(loc="upper right", fontsize=7, frameon=False, ncol=3, bbox_to_anchor=(0.99, 1.0))
+    fig.legend(loc="upper right", fontsize=7, frameon=False, ncol=4, bbox_to_anchor=(0.99, 1.0))
     fig.subplots_adjust(left=0.06, right=0.98, top=0.9, bottom=0.08)
     return fig

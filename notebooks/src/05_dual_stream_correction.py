@@ -20,16 +20,16 @@
 import mslib
 mslib.setup_notebook(seed=0)
 
-from mslib.notebook import load_findings
+from mslib.notebook import demo_pairs, load_findings
+from mslib.evaluation.transfer_figure import plot_transfer
 from dataclasses import asdict
 
 import numpy as np
 import torch
 import matplotlib.pyplot as plt
-from IPython.display import HTML
 
 from mslib import viz
-from mslib.checkpoints import checkpoint_digest, course_path, read_checkpoint
+from mslib.checkpoints import course_path, read_checkpoint
 from mslib.data.corpora import load_builtin
 from mslib.evaluation.bench import Evaluator, format_table, get_method, load_pairs, positions, run_bench
 from mslib.evaluation.metrics import jitter, pose_offset, transfer_noise
@@ -170,27 +170,35 @@ _ = fig
 
 # %% [markdown]
 # ## 7. Before and after (A Fig. 4)
-# For the same two motions: the content, the stage-1 transfer, and the corrected transfer.
+# For the same two motions: jitter and pose offset of the stage-1 transfer and the corrected one. Then the demo
+# pair notebooks 02–06 share (chosen by the rule of notebook 02: the first test pair whose style clip is not
+# neutral, is read as its own style, and has another content), corrected, with its style cues over time: blue
+# the corrected transfer, dashed blue stage 1 before the correction, grey the content, orange the style clip.
+# Stick figures show little of a correction; the cue tracks show it — the dashed line's wobble is the dynamic
+# noise, and how far the solid line falls back toward grey is the style the correction gives up.
 
 # %%
-triples = {}
 for content in ("walk", "punch"):
     c, s = first_pair(content)
     noisy = stage1.transfer_features(c["features"], s["features"])
-    triples[content] = (c["joints"], decode(noisy), decode(model.correct_features(noisy)))
-    j = [jitter(m) for m in triples[content]]
-    o = [pose_offset(m, c["joints"]) for m in triples[content][1:]]
+    triple = (c["joints"], decode(noisy), decode(model.correct_features(noisy)))
+    j = [jitter(m) for m in triple]
+    o = [pose_offset(m, c["joints"]) for m in triple[1:]]
     print(f"{content:<6} jitter content {j[0]:.2f}  transfer {j[1]:.2f}  corrected {j[2]:.2f}   "
           f"pose offset transfer {o[0]:.3f}  corrected {o[1]:.3f}")
-rows = [m for t in triples.values() for m in t]
-labels = [f"{k}: {n}" for k in triples for n in ("content", "stage 1", "stage 1 + DSDN")]
-fig = viz.plot_strip(rows, n_frames=5, row_labels=labels)
-_ = fig
+evaluator = Evaluator()
+(demo_c, demo_s), = demo_pairs(pairs, evaluator.read_style)
+demo_noisy = stage1.transfer_features(demo_c["features"], demo_s["features"])
+demo_before, demo_after = decode(demo_noisy), decode(model.correct_features(demo_noisy))
+print(f"demo pair ({demo_c['content']} → {demo_s['style']}): jitter stage 1 {jitter(demo_before):.2f}, "
+      f"corrected {jitter(demo_after):.2f} m/s²; the evaluator reads stage 1 as {evaluator.read_style(demo_before)}, "
+      f"the corrected one as {evaluator.read_style(demo_after)}")
+fig = plot_transfer(demo_c["joints"], demo_s["joints"], demo_after, before=demo_before, before_title="stage 1",
+                    titles=[f"content: {demo_c['content']}", f"style: {demo_s['style']} ({demo_s['content']})", "stage 1 + DSDN"])
 
 # %%
 # NBVAL_IGNORE_OUTPUT
-HTML(viz.animation_html(list(triples["walk"]), titles=["content", "stage 1", "stage 1 + DSDN"], max_frames=40,
-                        view="side"))
+viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content", "stage 1", "stage 1 + DSDN"])
 
 # %% [markdown]
 # ## 8. How much correction?
@@ -203,13 +211,10 @@ HTML(viz.animation_html(list(triples["walk"]), titles=["content", "stage 1", "st
 # correction grows.
 
 # %%
-if "strength" in ablation:
-    st = ablation["strength"]
-    if st["checkpoints"] != {n: checkpoint_digest(n) for n in ("adain", "dsdn")}:
-        print("note: measured on other checkpoints: re-run tools/dsdn_ablation.py --strength --out ...")
-    print(f"{'κ':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FSF':>6} {'jitter':>7}   ({st['val_pairs']} val pairs)")
-    for r in st["rows"]:
-        print(f"{r['strength']:>5.2f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fsf']:>6.2f} {r['jitter']:>7.2f}")
+st = ablation["strength"]
+print(f"{'κ':>5} {'H':>6} {'CRA':>6} {'SRA':>6} {'FSF':>6} {'jitter':>7}   ({st['val_pairs']} val pairs)")
+for r in st["rows"]:
+    print(f"{r['strength']:>5.2f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['fsf']:>6.2f} {r['jitter']:>7.2f}")
 print(f"course correction strength κ = {model.cfg.correction_strength}")
 
 # %% [markdown]
@@ -218,7 +223,6 @@ print(f"course correction strength κ = {model.cfg.correction_strength}")
 # of the outputs beside the bench columns.
 
 # %%
-evaluator = Evaluator()
 rows = [run_bench(m, pairs=pairs, evaluator=evaluator) for m in ("adain", "adain+dsdn")]
 print(format_table(rows, notebook=True))
 jit = {}
@@ -234,22 +238,63 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # Stage 2 makes the transfers smoother and their feet slide less. Trained to pull neutral transfers
 # back to their content, it also leans towards the content: CRA rises and SRA falls, and at full
 # strength (the table of section 8) the style lost outweighs the content kept.
-#
-# ## Exercise: the temporal smoothness loss by hand
-# Write `l_vel(p)` for a (B, T, D) tensor: the mean absolute difference between consecutive frames
-# (A Eq. 12). Then check that a motion frozen in time scores 0.
 
-# %%
-def l_vel(p):
-    return (p[:, 1:] - p[:, :-1]).abs().mean()
+# %% [markdown]
+# ## Exercises
+# **Exercise 1 (2 points) — the gate of the AGFU (A Eq. 8–10).** Write `agfu(x, x_dyn, x_static, W1, b1, W2, b2)`:
+# per frame, $h = \tanh(W_1 x + b_1)$, $g = W_2 h + b_2$, $\alpha = \mathrm{Softplus}(g)$, and return the fused
+# $\alpha\cdot X_{dyn} + (1-\alpha)\cdot \hat P$ and α. `x`, `x_dyn`, `x_static` are (B, T, D); `W1` is (64, D),
+# `W2` (1, 64) — the shapes of `nn.Linear.weight`, so multiply by their transpose. Tensor operations only.
 
-# %%
-# check
-p = torch.randn(2, 16, 263)
-assert torch.isclose(l_vel(p), (p[:, 1:] - p[:, :-1]).abs().sum() / (2 * 15 * 263))
-frozen = p[:, :1].expand(-1, 16, -1)
-assert float(l_vel(frozen)) == 0.0
+# %% [nbgrader solution id=ex05_agfu]
+def agfu(x, x_dyn, x_static, W1, b1, W2, b2):
+    """A Eq. 8–10 and the fusion: returns (fused (B, T, D), α (B, T, 1))."""
+    ### BEGIN SOLUTION
+    h = torch.tanh(x @ W1.T + b1)                            # A Eq. 8, (B, T, 64)
+    alpha = torch.nn.functional.softplus(h @ W2.T + b2)      # A Eq. 9-10, (B, T, 1)
+    return alpha * x_dyn + (1 - alpha) * x_static, alpha
+    ### END SOLUTION
+
+# %% [nbgrader tests id=ex05_agfu_check points=2]
+x = torch.randn(2, 16, 263)
 with torch.no_grad():
-    fused = model(p)
-    assert torch.isclose(model.losses((p, p))["vel"], l_vel(fused))
-print("l_vel matches the model's L_vel")
+    ref_out, ref_alpha = demo(x, return_gate=True)
+    g = demo.gate
+    mine, mine_alpha = agfu(x, demo.dynamic(x), demo.static(x), g.w1.weight, g.w1.bias, g.w2.weight, g.w2.bias)
+assert mine_alpha.shape == (2, 16, 1), "α: one weight per frame, (B, T, 1)"
+assert torch.allclose(mine_alpha, ref_alpha, atol=1e-5) and torch.allclose(mine, ref_out, atol=1e-5), \
+    "compare with the DSDN of section 2: demo(x, return_gate=True)"
+### BEGIN HIDDEN TESTS
+with torch.no_grad():
+    x3 = torch.randn(1, 8, 263) * 2
+    o3, a3 = agfu(x3, model.dynamic(x3), model.static(x3), model.gate.w1.weight, model.gate.w1.bias,
+                  model.gate.w2.weight, model.gate.w2.bias)
+    r3, ra3 = model(x3, return_gate=True)
+assert torch.allclose(a3, ra3, atol=1e-5) and torch.allclose(o3, r3, atol=1e-4)
+### END HIDDEN TESTS
+print("agfu matches the DSDN's fusion")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** *Predict* first: at full correction (κ = 1) instead of the course
+# κ, does the demo pair's output move **closer** to the content's pose or **further** from it? Write
+# `prediction = "closer"` or `"further"`. Then measure `offset[k]` for κ = `model.cfg.correction_strength` and 1.0:
+# `pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])` (mean joint distance in
+# metres, from `mslib.evaluation.metrics`). The hidden test grades the prediction against your measurement.
+
+# %% [nbgrader solution id=ex05_predict_kappa]
+### BEGIN SOLUTION
+prediction = "closer"
+offset = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
+          for k in (model.cfg.correction_strength, 1.0)}
+### END SOLUTION
+
+# %% [nbgrader tests id=ex05_predict_kappa_check points=1]
+assert prediction in ("closer", "further"), "prediction: 'closer' or 'further'"
+assert set(offset) == {model.cfg.correction_strength, 1.0}, "offset: one value for the course κ and one for κ = 1"
+### BEGIN HIDDEN TESTS
+ref = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
+       for k in (model.cfg.correction_strength, 1.0)}
+assert all(abs(offset[k] - ref[k]) < 1e-9 for k in ref)
+assert prediction == ("closer" if ref[1.0] < ref[model.cfg.correction_strength] else "further")
+### END HIDDEN TESTS
+print("checked")
