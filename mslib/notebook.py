@@ -45,9 +45,11 @@ FINDINGS_DIR = Path(__file__).resolve().parent.parent / "notebooks" / "data"
 
 
 def load_findings(name: str, required: bool = True) -> dict:
-    """The stored results `notebooks/data/<name>.json` of a tool in `tools/` (they are too slow for a notebook);
-    a missing file is a ValueError naming it (or `{}` with `required=False`)."""
-    path = FINDINGS_DIR / f"{name}.json"
+    """The stored results `data/<name>.json` of a tool in `tools/` (they are too slow for a notebook), read from the
+    notebook's own folder first (a handed-out copy of the workbook carries its `data/`), else from the repository's
+    `notebooks/data/`; a missing file is a ValueError naming it (or `{}` with `required=False`)."""
+    local = Path.cwd() / "data" / f"{name}.json"
+    path = local if local.is_file() else FINDINGS_DIR / f"{name}.json"
     if not path.is_file():
         if not required:
             return {}

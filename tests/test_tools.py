@@ -123,3 +123,14 @@ def test_current_commit(monkeypatch, tmp_path):
     assert commit == "unknown" or re.fullmatch(r"[0-9a-f]{7,40}", commit)
     monkeypatch.setattr(common, "ROOT", tmp_path)  # not a git checkout
     assert common.current_commit() == "unknown"
+
+
+def test_notebook_shape_counts_cells_prose_and_points():
+    import nbformat
+    from tools.update_docs import READING_WPM, notebook_shape
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("one two three"), nbformat.v4.new_code_cell("x = 1"),
+                nbformat.v4.new_code_cell("assert x", metadata={"nbgrader": {"grade": True, "points": 2}}),
+                nbformat.v4.new_markdown_cell("four five")]
+    shape = notebook_shape(nb)
+    assert shape == {"cells": 4, "words": 5, "minutes": 5 / READING_WPM, "points": 2}

@@ -61,3 +61,12 @@ def test_plot_strip_into_given_axes_checks_their_number():
     with pytest.raises(ValueError, match="axes: one per motion"):
         viz.plot_strip([still(8)], n_frames=3, axes=axes)
     plt.close(fig)
+
+
+def test_plot_cue_comparison_draws_every_output_in_every_panel():
+    from mslib.evaluation.transfer_figure import plot_cue_comparison
+    walk = swinging(T=40, arm=0.5)
+    fig = plot_cue_comparison(still(40), walk, {"a": walk, "b": still(30)})
+    assert len(fig.axes) == 3 and all(len(ax.get_lines()) == 4 for ax in fig.axes)
+    with pytest.raises(ValueError, match="outputs: at least one"):
+        plot_cue_comparison(walk, walk, {})

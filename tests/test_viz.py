@@ -296,3 +296,17 @@ def test_demo_pairs_follow_the_rule():
     assert [p[0]["content"] for p in demo_pairs(pairs, read, style="old", n=2)] == ["jump", "kick"]
     with pytest.raises(ValueError, match="can show the style 'proud'"):
         demo_pairs(pairs, read, style="proud")
+
+
+def test_load_findings_prefers_the_notebook_folders_own_data(tmp_path, monkeypatch):
+    import json as _json
+    from mslib.notebook import load_findings
+    monkeypatch.chdir(tmp_path)
+    stored = load_findings("07_bench")  # the repository's table, while ./data has none
+    assert "builtin" in stored
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "07_bench.json").write_text(_json.dumps({"handout": True}))
+    assert load_findings("07_bench") == {"handout": True}
+    assert load_findings("no_such_table", required=False) == {}
+    with pytest.raises(ValueError, match="no_such_table.json: no stored findings"):
+        load_findings("no_such_table")

@@ -12,6 +12,7 @@
     real_bench             every method on real pairs (Xia grid styles, real contents), judged twice → 07_real_bench.json
     fit_styles             the generator's body and style means fitted to the Xia train split → mslib/data/fitted_styles.json
     build_notebooks        notebooks/src/*.py → executed notebooks/*.ipynb (the outputs nbval checks)
+    release                the workbook as an nbgrader course (make release) and autograding (make grade)
     update_docs            the measured tables in README.md (built-in and real benchmarks) and notebooks/INSTRUCTORS.md
 
 Experiments live here, not in `mslib`: the library holds the papers and the course recipes, a tool

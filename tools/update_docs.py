@@ -91,25 +91,39 @@ def real_tables() -> str:
             "`python tools/update_docs.py real`.*")
 
 
+READING_WPM = 150  # words of prose a minute, for reading with care (code and figures not counted)
+
+
+def notebook_shape(nb) -> dict:
+    """Cells, words of markdown prose, an estimate of reading minutes and the exercises' points of one notebook."""
+    prose = sum(len(c.source.split()) for c in nb.cells if c.cell_type == "markdown")
+    points = sum(c.metadata.get("nbgrader", {}).get("points", 0) for c in nb.cells)
+    return {"cells": len(nb.cells), "words": prose, "minutes": prose / READING_WPM, "points": points}
+
+
 def notebook_timings() -> str:
-    """Run every notebook top to bottom in a fresh kernel (nothing saved) and time it."""
+    """Run every notebook top to bottom in a fresh kernel (nothing saved) and time it; with its shape."""
     import nbformat
     from nbclient import NotebookClient
-    rows = ["| notebook | seconds (fresh kernel) |", "|---|---|"]
+    rows = ["| notebook | seconds (fresh kernel) | cells | words of prose | reading (min) | exercise points |",
+            "|---|---|---|---|---|---|"]
     total = 0.0
     for nb_path in sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")):
         nb = nbformat.read(nb_path, as_version=4)
+        shape = notebook_shape(nb)
         t0 = time.time()
         NotebookClient(nb, timeout=900, kernel_name="python3",
                        resources={"metadata": {"path": str(nb_path.parent)}}).execute()
         seconds = time.time() - t0
         total += seconds
-        rows.append(f"| `{nb_path.stem}` | {seconds:.0f} |")
+        rows.append(f"| `{nb_path.stem}` | {seconds:.0f} | {shape['cells']} | {shape['words']} | {shape['minutes']:.0f} | "
+                    f"{shape['points']} |")
         print(f"{nb_path.stem}: {seconds:.1f} s", flush=True)
-    rows.append(f"| all | {total:.0f} |")
+    rows.append(f"| all | {total:.0f} | | | | |")
     return "\n".join(rows) + (f"\n\n*Measured by `python tools/update_docs.py timings` on {os.cpu_count()} CPU "
                               f"cores ({platform.machine()}), the course checkpoints packaged and the built-in "
-                              "corpora already cached.*")
+                              f"corpora already cached. Reading time: the prose at {READING_WPM} words a minute; the "
+                              "code, the figures and the exercises come on top.*")
 
 
 def main(argv=None) -> int:

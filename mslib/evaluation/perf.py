@@ -16,7 +16,7 @@ from .bench import get_method, known_methods, positions
 FRAMES = 64
 REPEATS = 20
 WARMUP = 3
-# targets on 2 CPU cores: the one-pass methods ≤ 10 ms; the diffusion samplers at their presets, B's DDIM 50 with
+# targets on 2 CPU cores: the one-pass methods ≤ 10 ms; the diffusion samplers at their presets, B's DDIM (20 steps) with
 # CFG ≤ 60 ms and D's SDEdit (20 DDIM steps, three-way CFG, style guidance) ≤ 150 ms per clip
 TARGETS_MS = {"adain": 10.0, "adain+dsdn": 10.0, "contrastive": 10.0, "mcm_ldm": 60.0, "clusterstyle": 150.0}
 JSON_KEYS = ("method", "ms_median", "ms_min", "ms_max", "repeats", "n_parameters", "target_ms", "met")

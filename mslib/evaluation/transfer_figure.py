@@ -44,3 +44,24 @@ def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: f
     fig.legend(loc="upper right", fontsize=7, frameon=False, ncol=4, bbox_to_anchor=(0.99, 1.0))
     fig.subplots_adjust(left=0.06, right=0.98, top=0.9, bottom=0.08)
     return fig
+
+
+def plot_cue_comparison(content, style, outputs: dict, fps: float = FPS) -> Figure:
+    """The cue tracks of the content, the style clip and several outputs ({name: positions}), a panel per cue."""
+    if not outputs:
+        raise ValueError("outputs: at least one {name: positions} entry needed")
+    fig = plt.figure(figsize=(11, 3.2), dpi=viz.DPI)
+    series = {"content": (content, ROLE_COLOURS["content"], 1.3), "style clip": (style, ROLE_COLOURS["style"], 1.3)}
+    series.update({name: (m, f"C{k + 2}", 1.6) for k, (name, m) in enumerate(outputs.items())})
+    tracks = {name: cue_tracks(m) for name, (m, _, _) in series.items()}
+    for i, (cue, label) in enumerate(TRACKS.items()):
+        ax = fig.add_subplot(1, 3, i + 1)
+        for name, (_, colour, lw) in series.items():
+            y = tracks[name][cue]
+            ax.plot(np.arange(len(y)) / fps, y, color=colour, lw=lw, label=name if i == 0 else None)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel("time (s)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.legend(loc="lower center", fontsize=7, frameon=False, ncol=len(series), bbox_to_anchor=(0.5, 0.0))
+    fig.subplots_adjust(left=0.05, right=0.99, top=0.88, bottom=0.3, wspace=0.25)
+    return fig

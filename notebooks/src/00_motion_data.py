@@ -257,16 +257,56 @@ ax.legend()
 _ = fig
 
 # %% [markdown]
-# ## Exercise
-# How many **frames** does the content corpus hold in total (sum of `n_frames` over all clips)?
-# Store it in `answer`.
+# ## Exercises
+# **Exercise 1 (2 points) — the root, integrated.** The 263-d vector stores the root as velocities in its own
+# facing frame (§2). Write `integrate_root(f)` for features (T, 263) that returns the root's positions (T, 3):
+# the heading angle $a_0 = 0$, $a_t = \sum_{s<t} f_{s,0}$ (the half-yaw steps); the step in the facing frame
+# $(v_x, v_z) = (f_{t-1,1}, f_{t-1,2})$ turned to the world, $x = v_x\cos 2a_t - v_z\sin 2a_t$,
+# $z = v_x\sin 2a_t + v_z\cos 2a_t$ (no step at $t = 0$); the positions are the running sums of those steps, and
+# the height is $f_{t,3}$. A hidden test tries other clips.
 
-# %%
-# your code here: answer = ...
-answer = sum(int(r["n_frames"]) for r in content_rows)
+# %% [nbgrader solution id=ex00_integrate_root]
+def integrate_root(f):
+    """Root positions (T, 3) from the root block of features (T, 263): heading, turned steps, running sums."""
+    ### BEGIN SOLUTION
+    a = np.concatenate([[0.0], np.cumsum(f[:-1, 0])])                      # heading a_t
+    vx, vz = np.concatenate([[0.0], f[:-1, 1]]), np.concatenate([[0.0], f[:-1, 2]])
+    x = np.cumsum(vx * np.cos(2 * a) - vz * np.sin(2 * a))
+    z = np.cumsum(vx * np.sin(2 * a) + vz * np.cos(2 * a))
+    return np.stack([x, f[:, 3], z], -1)
+    ### END SOLUTION
 
-# %%
-# check cell
-expected = sum(int(r["n_frames"]) for r in read_labels(paths["content"]))
-assert answer == expected, "add up the n_frames column of labels.csv"
-print("correct:", answer, "frames =", round(answer / 20 / 60, 1), "minutes of motion")
+# %% [nbgrader tests id=ex00_integrate_root_check points=2]
+f_turn = F.encode(generate_clip("turn_walk", "neutral", seed=0, index=3).positions).astype(np.float64)
+assert integrate_root(f_turn).shape == (len(f_turn), 3), "one root position per feature row"
+assert np.allclose(integrate_root(f_turn), F.recover_root(f_turn)[1], atol=1e-9), "compare with F.recover_root(f)[1]"
+### BEGIN HIDDEN TESTS
+for content, idx in (("walk", 7), ("run", 2)):
+    f_ = F.encode(generate_clip(content, "old", seed=1, index=idx).positions).astype(np.float64)
+    assert np.allclose(integrate_root(f_), F.recover_root(f_)[1], atol=1e-9)
+### END HIDDEN TESTS
+print("integrate_root matches recover_root")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** *Predict* first: does the built-in **old** walk take steps more
+# or less often than the **neutral** one (its cadence, steps per second)? Write `prediction = "more"` or
+# `"less"`. Then measure `cadence[s]` for s in ("neutral", "old") with `cues(w.positions)["cadence"]` (from
+# `mslib.evaluation.cues`) on §3's walks (`walks[STYLES.index(s)]`). The hidden test grades the prediction
+# against your measurement.
+
+# %% [nbgrader solution id=ex00_predict_cadence]
+from mslib.evaluation.cues import cues
+### BEGIN SOLUTION
+prediction = "less"
+cadence = {s: cues(walks[STYLES.index(s)].positions)["cadence"] for s in ("neutral", "old")}
+### END SOLUTION
+
+# %% [nbgrader tests id=ex00_predict_cadence_check points=1]
+assert prediction in ("more", "less"), "prediction: 'more' or 'less'"
+assert set(cadence) == {"neutral", "old"} and all(v > 0 for v in cadence.values()), "cadence: steps per second of each walk"
+### BEGIN HIDDEN TESTS
+ref = {s: cues(walks[STYLES.index(s)].positions)["cadence"] for s in ("neutral", "old")}
+assert all(abs(cadence[s] - ref[s]) < 1e-9 for s in ref)
+assert prediction == ("more" if ref["old"] > ref["neutral"] else "less")
+### END HIDDEN TESTS
+print("checked")

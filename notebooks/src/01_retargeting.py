@@ -172,10 +172,47 @@ print(f"MPJPE over 16 takes: mean {100 * np.mean(errors):.2f} cm, max {100 * np.
 print(f"foot contacts agree on {100 * np.mean(agree):.1f}% of frames (worst take {100 * np.min(agree):.1f}%)")
 
 # %% [markdown]
-# ## Exercise
-# A skeleton from another studio names its joints `Bip01_L_Thigh`, `Bip01_L_Calf`, … Build a
-# skeleton with those names (the template's tree) and let `auto` map it. Which source joint does
-# it choose for `left_knee`? Store the answer (a string) in `answer`.
+# ## Exercises
+# **Exercise 1 (2 points) — facing +Z.** The last step of registration turns a take so that its first frame
+# faces +Z. Write `face_plus_z(p)` for positions (T, 22, 3), Y up: move frame 0's root (joint 0) to the origin in
+# X and Z; find frame 0's forward direction, $\text{up} \times \text{across}$ with across $=$ (right hip − left
+# hip) + (right shoulder − left shoulder) (joints 2 − 1 and 17 − 16), projected on the floor; then turn every
+# frame about Y by the angle that takes forward to +Z. (A turn by θ about Y maps $(x, z)$ to
+# $(x\cos\theta + z\sin\theta,\; -x\sin\theta + z\cos\theta)$, and forward $(f_x, f_z)$ has heading
+# $\mathrm{atan2}(f_x, f_z)$.) A hidden test tries other takes.
+
+# %% [nbgrader solution id=ex01_face_plus_z]
+def face_plus_z(p):
+    """Positions (T, 22, 3) moved so frame 0's root is at X = Z = 0 and turned so frame 0 faces +Z."""
+    ### BEGIN SOLUTION
+    q = np.array(p, dtype=np.float64)
+    q[..., [0, 2]] -= q[0, 0, [0, 2]]
+    across = (q[0, 2] - q[0, 1]) + (q[0, 17] - q[0, 16])
+    forward = np.cross([0.0, 1.0, 0.0], across)
+    theta = -np.arctan2(forward[0], forward[2])                            # turn the heading back to 0
+    x, z = q[..., 0].copy(), q[..., 2].copy()
+    q[..., 0], q[..., 2] = x * np.cos(theta) + z * np.sin(theta), -x * np.sin(theta) + z * np.cos(theta)
+    return q
+    ### END SOLUTION
+
+# %% [nbgrader tests id=ex01_face_plus_z_check points=2]
+turned = canonical @ np.array([[0.6, 0, -0.8], [0, 1, 0], [0.8, 0, 0.6]]).T + [1.0, 0, 2.0]  # §3's take, turned and moved
+mine = face_plus_z(turned)
+assert np.allclose(mine, R.canonicalize(turned, floor=False), atol=1e-9), "compare with R.canonicalize(p, floor=False)"
+assert np.allclose(R.facing_direction(mine[0]), [0, 0, 1], atol=1e-9), "frame 0 must face +Z"
+### BEGIN HIDDEN TESTS
+for angle in (2.5, -1.2):
+    c_, s_ = np.cos(angle), np.sin(angle)
+    t_ = canonical @ np.array([[c_, 0, s_], [0, 1, 0], [-s_, 0, c_]]).T + [-0.5, 0.1, 3.0]
+    assert np.allclose(face_plus_z(t_), R.canonicalize(t_, floor=False), atol=1e-9)
+### END HIDDEN TESTS
+print("face_plus_z matches canonicalize")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** A skeleton from another studio names its joints `Bip01_L_Thigh`,
+# `Bip01_L_Calf`, … (below, with the template's tree). *Predict* first, from the names and the tree alone: which
+# of its joints will `JM.auto_joint_map` choose as the template's `left_knee`? Write it in `prediction`. Then run
+# the map and store its choice in `chosen`. The hidden test grades the prediction.
 
 # %%
 biped_names = ["Bip01_Pelvis", "Bip01_L_Thigh", "Bip01_R_Thigh", "Bip01_Spine", "Bip01_L_Calf",
@@ -184,10 +221,17 @@ biped_names = ["Bip01_Pelvis", "Bip01_L_Thigh", "Bip01_R_Thigh", "Bip01_Spine", 
                "Bip01_Head", "Bip01_L_UpperArm", "Bip01_R_UpperArm", "Bip01_L_Forearm", "Bip01_R_Forearm",
                "Bip01_L_Hand", "Bip01_R_Hand"]
 biped = sk.Skeleton(tuple(biped_names), sk.PARENTS, sk.HUMANML3D.offsets)
-# your code here: answer = ...
-answer = JM.auto_joint_map(biped)["left_knee"]
 
-# %%
-# check cell
-assert answer == "Bip01_L_Calf", "look at which joint is the parent of the left ankle"
-print("correct:", answer)
+# %% [nbgrader solution id=ex01_predict_knee]
+### BEGIN SOLUTION
+prediction = "Bip01_L_Calf"
+chosen = JM.auto_joint_map(biped)["left_knee"]
+### END SOLUTION
+
+# %% [nbgrader tests id=ex01_predict_knee_check points=1]
+assert prediction in biped_names, "prediction: one of biped_names"
+assert chosen == JM.auto_joint_map(biped)["left_knee"], "chosen: what auto_joint_map picks for left_knee"
+### BEGIN HIDDEN TESTS
+assert prediction == "Bip01_L_Calf"
+### END HIDDEN TESTS
+print("checked: the map chose", chosen)

@@ -1,3 +1,5 @@
+
+
 # %% [markdown]
 # # 07 · The benchmark: every method on the same held-out pairs
 #
@@ -28,7 +30,8 @@ from mslib import viz
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, positions, run_bench
 from mslib.evaluation import metrics as M
 from mslib.models.registry import DESCRIPTIONS, get_method, known_methods
-from mslib.notebook import load_findings
+from mslib.notebook import demo_pairs, load_findings
+from mslib.evaluation.transfer_figure import plot_cue_comparison
 
 METHODS = ["identity", "copy_style", "adain", "adain+dsdn", "contrastive", "mcm_ldm", "clusterstyle"]
 assert set(METHODS) <= set(known_methods())  # importing the model modules registers their methods
@@ -102,22 +105,25 @@ _ = fig
 
 # %% [markdown]
 # ## 3. One motion, every method
-# The first pair of the draw, transferred by every method: the content clip, the style clip, and
-# each output. Look for the style's posture and amplitude (from the style clip) on the content's
-# action and path (from the content clip).
+# The demo pair of notebooks 02–06, chosen by a rule fixed before any output was looked at: the first pair of
+# the draw whose style clip is not neutral, is read as its own style by the evaluator, and has another content
+# than the content clip. Every method transfers it; look for the style's posture and amplitude (from the style
+# clip) on the content's action and path (from the content clip). Below the strip, the three style cues over
+# time for every output at once: where a method's line leaves the grey content toward the orange style clip,
+# that method moved the style.
 
 # %%
-content, style = pairs[0]
+content, style = demo_pairs(pairs, evaluator.read_style)[0]
 print("content:", content["clip_id"], "·", content["content"], "| style:", style["clip_id"], "·", style["style"])
 outputs = {m: positions(get_method(m)(content, style)) for m in METHODS[2:]}
 motions = [content["joints"], style["joints"]] + list(outputs.values())
 titles = [f"content ({content['content']})", f"style ({style['style']})"] + list(outputs)
 for t, m in zip(titles, motions):
-    print(f"{t:<22} {m.shape[0]:>4} frames, style classifier says: "
-          f"{evaluator.style.classes[int(evaluator.style.score([m])[0][0].argmax())]}")
+    print(f"{t:<22} {m.shape[0]:>4} frames, style classifier says: {evaluator.read_style(m)}")
 
 # %%
 _ = viz.plot_strip(motions, n_frames=5, view="side", titles=titles)
+fig = plot_cue_comparison(content["joints"], style["joints"], outputs)
 
 # %% [markdown]
 # In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light up while
@@ -221,16 +227,58 @@ fig.tight_layout()
 _ = fig
 
 # %% [markdown]
-# ## Exercise
-# H is the harmonic mean of SRA and CRA (both in percent in the table, H in [0, 1]). Compute H for the
-# `adain+dsdn` row from its `sra` and `cra` and store it in `answer`.
+# ## Exercises
+# **Exercise 1 (2 points) — FMD by hand.** The Fréchet distance between two feature sets fits a Gaussian to each
+# and compares them: $\mathrm{FMD} = \lVert\mu_a - \mu_b\rVert^2 + \mathrm{Tr}\big(\Sigma_a + \Sigma_b - 2(\Sigma_a\Sigma_b)^{1/2}\big)$,
+# with the unbiased covariances (`np.cov(..., rowvar=False)`) and the matrix square root `scipy.linalg.sqrtm`
+# (keep its real part). Write `fmd(a, b)` for feature sets (N, D) and (M, D). A hidden test tries other sets.
 
-# %%
-# your code here: answer = ...
-r = by_name["adain+dsdn"]
-answer = 2 * (r["sra"] / 100) * (r["cra"] / 100) / ((r["sra"] + r["cra"]) / 100)
+# %% [nbgrader solution id=ex07_fmd]
+from scipy.linalg import sqrtm
 
-# %%
-# check cell
-assert abs(answer - M.harmonic_score(r["sra"], r["cra"])) < 1e-9, "H = 2·SRA·CRA / (SRA + CRA), on fractions"
-print("correct: H =", round(answer, 3))
+def fmd(a, b):
+    """Fréchet distance of the Gaussian fits of two feature sets (N, D), (M, D)."""
+    ### BEGIN SOLUTION
+    mu_a, mu_b = a.mean(0), b.mean(0)
+    cov_a, cov_b = np.cov(a, rowvar=False), np.cov(b, rowvar=False)
+    covmean = np.real(sqrtm(cov_a @ cov_b))
+    return float((mu_a - mu_b) @ (mu_a - mu_b) + np.trace(cov_a + cov_b - 2 * covmean))
+    ### END SOLUTION
+
+# %% [nbgrader tests id=ex07_fmd_check points=2]
+rng = np.random.default_rng(0)
+a, b = rng.normal(size=(300, 4)), rng.normal(0.5, 1.5, size=(250, 4))
+assert abs(fmd(a, b) - M.frechet_distance(a, b)) < 1e-3 * M.frechet_distance(a, b), "compare with M.frechet_distance"
+assert abs(fmd(a, a)) < 1e-6, "a set is at distance 0 from itself"
+### BEGIN HIDDEN TESTS
+c, d = rng.normal(size=(400, 6)) @ rng.normal(size=(6, 6)), rng.normal(1.0, 0.7, size=(350, 6))
+assert abs(fmd(c, d) - M.frechet_distance(c, d)) < 1e-3 * M.frechet_distance(c, d)
+### END HIDDEN TESTS
+print("fmd matches the benchmark's FMD")
+
+# %% [markdown]
+# **Exercise 2 (1 point) — predict, then run.** identity keeps all the content, copy_style all the style. A
+# "method" that simply *averages* the two motions — half content, half style clip, joint by joint and frame by
+# frame, the style clip looped to the content's length — sits in between. *Predict* first: is its H **above** or
+# **below** identity's? Write `prediction = "above"` or `"below"`. Then measure `h_average` on the draw's pairs:
+# build one output per pair (`np.resize(s["joints"], c["joints"].shape)` loops a clip) and score them with
+# `evaluate(outputs, pairs, evaluator)["h"]` from `mslib.evaluation.bench`. The hidden test grades the prediction
+# against your measurement and identity's row above.
+
+# %% [nbgrader solution id=ex07_predict_average]
+from mslib.evaluation.bench import evaluate
+### BEGIN SOLUTION
+prediction = "above"
+averaged = [0.5 * c["joints"] + 0.5 * np.resize(s["joints"], c["joints"].shape) for c, s in pairs]
+h_average = evaluate(averaged, pairs, evaluator)["h"]
+### END SOLUTION
+
+# %% [nbgrader tests id=ex07_predict_average_check points=1]
+assert prediction in ("above", "below"), "prediction: 'above' or 'below'"
+assert 0 <= h_average <= 1, "h_average: H of the averaged outputs, in [0, 1]"
+### BEGIN HIDDEN TESTS
+ref = evaluate([0.5 * c["joints"] + 0.5 * np.resize(s["joints"], c["joints"].shape) for c, s in pairs], pairs, evaluator)["h"]
+assert abs(h_average - ref) < 1e-9, "average joint positions, the style clip looped with np.resize"
+assert prediction == ("above" if ref > by_name["identity"]["h"] else "below")
+### END HIDDEN TESTS
+print("checked")
