@@ -28,7 +28,7 @@ from mslib.data import joint_maps as JM
 from mslib.data.corpora import load_builtin
 from mslib.motion import skeleton as sk
 from mslib.motion.bvh import read_bvh, bvh_info
-from mslib.motion.features import encode, decode, foot_contacts
+from mslib.motion.features import decode, foot_contacts
 
 paths = load_builtin(seed=0, progress=False)  # built once (≈30 s), then cached on disk
 take_files = sorted(paths["style_bvh"].glob("*.bvh"))

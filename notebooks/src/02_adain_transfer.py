@@ -30,7 +30,6 @@ from mslib import viz
 from mslib.checkpoints import course_path
 from mslib.data.corpora import load_builtin
 from mslib.data.datasets import ContentClips, StyleClips
-from mslib.data.styles import STYLES
 from mslib.models import adain as A
 from mslib.models.common.layers import adain, channel_stats
 from mslib.motion.features import decode

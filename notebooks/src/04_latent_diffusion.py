@@ -41,7 +41,7 @@ from mslib.evaluation.embedding import nn_accuracy
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
 from mslib.evaluation.transfer_figure import plot_transfer
 from mslib.notebook import demo_pairs, load_findings
-from mslib.models.common.diffusion import Schedule, cfg_combine
+from mslib.models.common.diffusion import Schedule
 
 paths = load_builtin(progress=False)
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
@@ -218,7 +218,7 @@ print(f"style of the nearest held-out clip from another take matches: {100 * nn_
 # A live run: a small denoiser on 200 clips of each corpus, 150 steps.
 
 # %%
-from mslib.models.mcm_ldm import build_tensors, train_mcm, Transfer, load_mcm_ldm
+from mslib.models.mcm_ldm import build_tensors, train_mcm, load_mcm_ldm
 from dataclasses import asdict
 
 small = build_tensors(vae, extractor, paths["content"], paths["style"], "train", views=1, limit=200)
@@ -247,7 +247,8 @@ print(f"denoiser: {model.cfg.blocks} blocks, width {model.cfg.width}, trained {m
 
 # %% [markdown]
 # ## 5. Sampling step by step
-# DDIM (η = 0) walks from pure noise $z_T$ down a 50-step ladder. At every step it predicts the clean
+# DDIM (η = 0) walks from pure noise $z_T$ down a ladder of steps (the course preset's number is printed below).
+# At every step it predicts the clean
 # latent $\hat z_0 = (z_t - \sqrt{1-\bar\alpha_t}\,\hat\varepsilon)/\sqrt{\bar\alpha_t}$ and moves to
 # $z_{t'} = \sqrt{\bar\alpha_{t'}}\,\hat z_0 + \sqrt{1-\bar\alpha_{t'}}\,\hat\varepsilon$. With classifier-free
 # guidance the noise estimate is (B Eq. 5)
@@ -261,7 +262,8 @@ print(f"denoiser: {model.cfg.blocks} blocks, width {model.cfg.width}, trained {m
 # %%
 pairs = load_pairs(seed=0, n_pairs=40)  # the benchmark's first 40 test pairs (§9 scores them)
 (c_item, s_item), = demo_pairs(pairs, evaluator.read_style)
-print(f"demo pair: content {c_item['content']}, style clip {s_item['style']} ({s_item['content']})")
+print(f"demo pair: content {c_item['content']}, style clip {s_item['style']} ({s_item['content']}); "
+      f"DDIM steps of the course model: {tr.model.cfg.ddim_steps}")
 snaps = {}
 n_steps = tr.model.cfg.ddim_steps  # the course model's DDIM steps; four snapshots along them
 def keep(i, t, z_t, z0_hat):

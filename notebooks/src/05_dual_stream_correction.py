@@ -22,7 +22,6 @@ mslib.setup_notebook(seed=0)
 
 from mslib.notebook import demo_pairs, load_findings
 from mslib.evaluation.transfer_figure import plot_transfer
-from dataclasses import asdict
 
 import numpy as np
 import torch

@@ -230,7 +230,7 @@ print(f"style tokens {tuple(s_tok.shape)} (1 global + {s_tok.shape[1] - 1} local
 # %%
 print(f"course inference: s_t = {pipe.cfg.cfg_text}, s_s = {pipe.cfg.cfg_style}, w = {pipe.cfg.guide_weight:g} "
       f"for t < {pipe.cfg.guide_below}, {pipe.cfg.ddim_steps} DDIM steps")
-from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
+from mslib.evaluation.bench import Evaluator, format_table, load_pairs
 evaluator = Evaluator()
 def first(style):
     return next(style_test[i] for i in range(len(style_test)) if style_test.rows[i]["style"] == style)
