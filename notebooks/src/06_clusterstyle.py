@@ -159,9 +159,9 @@ _ = fig
 
 # %% [markdown]
 # ## 4. Did the prototypes find the true sub-styles?
-# The built-in generator drew every style clip from one of its style's three named sub-styles (old:
-# stooped, shuffling, cane-like …). The prototypes never saw those labels. For each clip take the
-# nearest global prototype of its own style and count (true sub-style × prototype). A prototype that
+# The built-in generator drew every style clip from one of its style's three named sub-styles (each fitted to
+# a third of the style's real takes; the table names them). The prototypes never saw those labels. For each
+# clip take the nearest global prototype of its own style and count (true sub-style × prototype). A prototype that
 # "found" a sub-style owns one row; we score each style's table on its best one-to-one matching of
 # rows to columns (`matched_purity`), against the same score for a random assignment.
 
