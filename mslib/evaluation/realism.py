@@ -386,9 +386,9 @@ def realism_figure(report: dict, dpi: int = 80):
                 chance = s["chance"]
         ax.axhline(chance, color="k", ls="--", lw=1, label=f"chance {chance:.1f} %")
         ax.set_title(title, fontsize=10)
-        ax.set_ylim(0, 150), ax.set_yticks(range(0, 101, 20)), ax.set_ylabel("% recognised", fontsize=8)
+        ax.set_ylim(0, 175), ax.set_yticks(range(0, 101, 20)), ax.set_ylabel("% recognised", fontsize=8)
         ax.set_xticks(x, styles, fontsize=8, rotation=30)
-        ax.legend(fontsize=7, loc="upper center", ncol=2)
+        ax.legend(fontsize=6.5, loc="upper left", ncol=1, frameon=False)
     ax = axes.flat[len(CUES) + 2]
     ax.axis("off")
     b = report["builtin"]

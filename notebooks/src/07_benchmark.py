@@ -91,9 +91,12 @@ for h in (0.2, 0.4, 0.6, 0.8):
     ok = (sra > 0) & (sra <= 100)
     ax.plot(grid[ok], sra[ok], color="0.8", lw=1)
     ax.text(grid[ok][-1], sra[ok][-1], f"H={h}", fontsize=7, color="0.5")
+placed = []  # label anchors so far: a label that would sit on another one goes below its point instead
 for r in rows:
     ax.scatter(r["cra"], r["sra"], s=40)
-    ax.annotate(r["method"], (r["cra"], r["sra"]), fontsize=8, xytext=(4, 4), textcoords="offset points")
+    below = any(abs(r["cra"] - x) < 15 and abs(r["sra"] - y) < 6 for x, y in placed)
+    ax.annotate(r["method"], (r["cra"], r["sra"]), fontsize=8, xytext=(4, -11 if below else 4), textcoords="offset points")
+    placed.append((r["cra"], r["sra"]))
 ax.set(xlabel="CRA (%)  content kept", ylabel="SRA (%)  style taken", xlim=(0, 105), ylim=(0, 105),
        title="SRA against CRA")
 ax = axes[1]
