@@ -216,6 +216,9 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
         out["builtin_test_windows"] = {**scores(yb, pred_b, classes), "takes_too_short": short_b}
         walk = np.array([is_walk(c) for c in content_b])
         out["builtin_test_walk_windows"] = scores(yb[walk], pred_b[walk], classes)
+        out["builtin_test_by_content"] = {str(c): {"n": int((content_b == c).sum()),
+                                                   "accuracy": _round(100 * np.mean(pred_b[content_b == c] == yb[content_b == c]))}
+                                          for c in sorted(set(content_b))}
     return out
 
 
@@ -342,6 +345,9 @@ def format_cross_scores(report: dict) -> str:
               f"  real test windows {_score(rb.get('real_test_windows'))}, takes {_score(rb.get('real_test_takes'))}",
               f"  built-in style test windows {_score(rb.get('builtin_test_windows'))} "
               f"(walks {_score(rb.get('builtin_test_walk_windows'))})"]
+    if rb.get("builtin_test_by_content"):
+        lines.append("    by content: " + ", ".join(f"{c} {v['accuracy']:.0f} % of {v['n']}"
+                                                    for c, v in rb["builtin_test_by_content"].items()))
     for p in (rb.get("builtin_test_windows") or {}).get("per_style", []):
         lines.append(f"    {p['style']:<10} {p['accuracy']:5.0f} %  read as {p['read_as']} ({p['read_as_share']:.0f} %)")
     lines += [f"built-in → real: packaged style evaluator ({br.get('builtin_test_clips_accuracy')} % on built-in test clips)",
