@@ -28,3 +28,12 @@ def test_method_returns_features_and_beats_identity_on_a_few_pairs(method, score
     row = bench.run_bench(method, pairs=pairs, evaluator=ev)
     assert row["pairs"] == N_PAIRS and np.isfinite(row["h"])
     assert row["h"] > identity["h"], f"{method}: H {row['h']:.3f} not above identity's {identity['h']:.3f}"
+
+
+def test_the_evaluator_reads_one_motion_as_its_batch_scores_say(scored):
+    pairs, ev, _ = scored
+    motions = [c["joints"] for c, _ in pairs[:3]] + [s["joints"] for _, s in pairs[:3]]
+    c_logits, s_logits, _ = ev.score(motions)
+    assert [ev.read_content(m) for m in motions] == [ev.content.classes[i] for i in c_logits.argmax(1)]
+    assert [ev.read_style(m) for m in motions] == [ev.style.classes[i] for i in s_logits.argmax(1)]
+    assert [ev.read_style(s["joints"]) for _, s in pairs[:3]] == [s["style"] for _, s in pairs[:3]]  # held-out clips

@@ -86,6 +86,10 @@ class Evaluator:
         """The style the style classifier reads in one (T, 22, 3) motion."""
         return self.style.classes[int(self.style.score([motion])[0][0].argmax())]
 
+    def read_content(self, motion) -> str:
+        """The content the content classifier reads in one (T, 22, 3) motion."""
+        return self.content.classes[int(self.content.score([motion])[0][0].argmax())]
+
     def real_features(self, clips) -> np.ndarray:
         """FMD features of real clips (dicts with "clip_id" and "joints"), computed once per clip."""
         todo = [c for c in clips if c["clip_id"] not in self._real]

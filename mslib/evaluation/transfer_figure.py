@@ -12,6 +12,17 @@ from .cues import FPS, TRACKS, cue_tracks
 ROLE_COLOURS = {"content": "0.55", "style": "tab:orange", "output": "tab:blue"}
 
 
+def _cue_panels(axes, series, fps: float) -> None:
+    """One panel per cue of TRACKS: every series (label, tracks, line style as plot kwargs) over time in seconds;
+    the labels go on the first panel only, for the figure's legend."""
+    for i, (ax, (cue, title)) in enumerate(zip(axes, TRACKS.items())):
+        for label, tracks, style in series:
+            y = tracks[cue]
+            ax.plot(np.arange(len(y)) / fps, y, label=label if i == 0 else None, **style)
+        ax.set_title(title, fontsize=9)
+        ax.tick_params(labelsize=7)
+
+
 def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: float = FPS, before=None,
                   before_title: str = "before") -> Figure:
     """Strip rows (content, style clip, output) with the cue tracks of all three beside them; positions (T, 22, 3).
@@ -27,20 +38,14 @@ def plot_transfer(content, style, output, titles=None, n_frames: int = 5, fps: f
     viz.plot_strip(list(motions.values()), n_frames=n_frames, view="side", titles=titles, axes=strip_axes)
     for ax, role in zip(strip_axes, motions):
         ax.title.set_color(ROLE_COLOURS[role] if role != "content" else "0.3")
-    for i, (cue, label) in enumerate(TRACKS.items()):
-        ax = fig.add_subplot(grid[i, 1])
-        for role, title in zip(motions, titles):
-            y = tracks[role][cue]
-            ax.plot(np.arange(len(y)) / fps, y, color=ROLE_COLOURS[role], lw=2 if role == "output" else 1.3,
-                    label=title if i == 0 else None)
-        if before is not None:
-            y = cue_tracks(before)[cue]
-            ax.plot(np.arange(len(y)) / fps, y, color=ROLE_COLOURS["output"], lw=1, ls="--", alpha=0.8,
-                    label=before_title if i == 0 else None)
-        ax.set_title(label, fontsize=9)
-        ax.tick_params(labelsize=7)
-        if i == 2:
-            ax.set_xlabel("time (s)", fontsize=8)
+    series = [(title, tracks[role], {"color": ROLE_COLOURS[role], "lw": 2 if role == "output" else 1.3})
+              for role, title in zip(motions, titles)]
+    if before is not None:
+        series.append((before_title, cue_tracks(before), {"color": ROLE_COLOURS["output"], "lw": 1, "ls": "--",
+                                                          "alpha": 0.8}))
+    cue_axes = [fig.add_subplot(grid[i, 1]) for i in range(len(TRACKS))]
+    _cue_panels(cue_axes, series, fps)
+    cue_axes[-1].set_xlabel("time (s)", fontsize=8)
     fig.legend(loc="upper right", fontsize=7, frameon=False, ncol=4, bbox_to_anchor=(0.99, 1.0))
     fig.subplots_adjust(left=0.06, right=0.98, top=0.9, bottom=0.08)
     return fig
@@ -51,17 +56,13 @@ def plot_cue_comparison(content, style, outputs: dict, fps: float = FPS) -> Figu
     if not outputs:
         raise ValueError("outputs: at least one {name: positions} entry needed")
     fig = plt.figure(figsize=(11, 3.2), dpi=viz.DPI)
-    series = {"content": (content, ROLE_COLOURS["content"], 1.3), "style clip": (style, ROLE_COLOURS["style"], 1.3)}
-    series.update({name: (m, f"C{k + 2}", 1.6) for k, (name, m) in enumerate(outputs.items())})
-    tracks = {name: cue_tracks(m) for name, (m, _, _) in series.items()}
-    for i, (cue, label) in enumerate(TRACKS.items()):
-        ax = fig.add_subplot(1, 3, i + 1)
-        for name, (_, colour, lw) in series.items():
-            y = tracks[name][cue]
-            ax.plot(np.arange(len(y)) / fps, y, color=colour, lw=lw, label=name if i == 0 else None)
-        ax.set_title(label, fontsize=9)
+    styles = [("content", content, {"color": ROLE_COLOURS["content"], "lw": 1.3}),
+              ("style clip", style, {"color": ROLE_COLOURS["style"], "lw": 1.3})]
+    styles += [(name, m, {"color": f"C{k + 2}", "lw": 1.6}) for k, (name, m) in enumerate(outputs.items())]
+    axes = [fig.add_subplot(1, len(TRACKS), i + 1) for i in range(len(TRACKS))]
+    _cue_panels(axes, [(name, cue_tracks(m), kw) for name, m, kw in styles], fps)
+    for ax in axes:
         ax.set_xlabel("time (s)", fontsize=8)
-        ax.tick_params(labelsize=7)
-    fig.legend(loc="lower center", fontsize=7, frameon=False, ncol=len(series), bbox_to_anchor=(0.5, 0.0))
+    fig.legend(loc="lower center", fontsize=7, frameon=False, ncol=len(styles), bbox_to_anchor=(0.5, 0.0))
     fig.subplots_adjust(left=0.05, right=0.99, top=0.88, bottom=0.3, wspace=0.25)
     return fig

@@ -196,7 +196,7 @@ demo_out = decode(model.transfer_features(demo_c["features"], demo_s["features"]
 fig = plot_transfer(demo_c["joints"], demo_s["joints"], demo_out,
                     titles=[f"content: {demo_c['content']}", f"style: {demo_s['style']} ({demo_s['content']})", "transfer"])
 print("the evaluator reads the transfer as:", evaluator.read_style(demo_out), "| its content as:",
-      evaluator.content.classes[int(evaluator.content.score([demo_out])[0][0].argmax())])
+      evaluator.read_content(demo_out))
 
 # %% [markdown]
 # In the 3-D viewer below, drag to turn the skeletons, scroll to zoom, and play, pause or scrub; feet light
