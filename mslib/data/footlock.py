@@ -35,7 +35,7 @@ from .body import LEG
 
 GRAVITY = 9.81
 REACH = 0.995  # a planted leg straightens to at most this fraction of thigh + shank
-ROOT_SMOOTHING = (0.10, 0.04)  # s: Gaussian σ of the root path across (x, z) and up (y)
+ROOT_SMOOTHING = (0.14, 0.04)  # s: Gaussian σ of the root path across (x, z) and up (y)
 
 
 def foot_yaw(G_ankle) -> np.ndarray:

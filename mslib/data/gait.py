@@ -16,6 +16,9 @@ import numpy as np
 from .body import LEFT, RIGHT, Angles, bump, keyframes, shaped, slow_noise, tremor
 
 
+THORAX_TURN, TRUNK_ROLL = 6.0, -5.0  # degrees every gait adds (real upper bodies turn and roll more)
+
+
 @dataclass
 class Plan:
     """Joint angles, root heading (radians), contacts (T, 2: left, right), foot pitch in contact,
@@ -178,8 +181,8 @@ def locomotion(T: int, fps: float, rng: np.random.Generator, sp: dict, cp: dict,
                tilt=tilt + 1.5 * np.cos(2 * cyc))
     into_turn = 2.0 * np.sign(cp["curvature"]) * (abs(cp["curvature"]) > 0.1)  # lean into a curve
     ang.spine(lean=(8.0 if run else 0.0) + (3.0 if content == "walk_backward" else 0.0),
-              turn=(4.0 + 5.0) * twist * np.cos(cyc) * (1.3 if run else 1.0),
-              bend=sp["sway"] * np.cos(cyc - 2 * np.pi * 0.3) + into_turn)
+              turn=((4.0 + 5.0) * twist + THORAX_TURN * (not side_only)) * np.cos(cyc) * (1.3 if run else 1.0),
+              bend=(sp["sway"] + TRUNK_ROLL) * np.cos(cyc - 2 * np.pi * 0.3) + into_turn)
     apply_posture(ang, sp, t, rng, phase=phase)
 
     # arms swing opposite to the legs

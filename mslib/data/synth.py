@@ -24,6 +24,7 @@ from .footlock import anchor_root, lock_feet
 
 GENERATOR_VERSION = 3  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
+ANGLE_SMOOTHING = 0.04  # s: Gaussian σ over time of the planned joint angles (real capture is smoother)
 _PLANNERS = {"gait": gait.locomotion, "stand": actions.stand, "punch": actions.punch,
              "kick": actions.kick, "wave": actions.wave, "jump": actions.jump}
 
@@ -174,6 +175,9 @@ def _prepare(spec: dict):
     T = int(round(duration * fps)) + 1
     plan_rng = np.random.default_rng([seed, index, 1])
     plan = _PLANNERS[styles.CONTENT_TABLE[content][0]](T, fps, plan_rng, sp, cp, leg_length(body))
+    if ANGLE_SMOOTHING > 0:
+        from scipy.ndimage import gaussian_filter1d
+        plan.angles.a = gaussian_filter1d(plan.angles.a, ANGLE_SMOOTHING * fps, axis=0, mode="nearest")
     meta = {"content": content, "style": style, "substyle": substyle, "intensity": intensity,
             "seed": seed, "index": index, "fps": fps, "duration": float((T - 1) / fps), "n_frames": T}
     return dict(meta=meta, sp=sp, cp=cp, body=body, plan=plan, start=start,
