@@ -48,6 +48,37 @@ def test_the_generator_uses_the_fitted_numbers(table):
     assert any(styles.hand_mean("old")[k] != pytest.approx(v) for k, v in table["styles"]["old"]["params"].items())
 
 
+def test_content_fits_shift_the_style_and_keep_its_substyles(table):
+    """A content fitted on its own moves its fitted parameters by (content fit − walking fit), for the
+    style and each sub-style alike; other contents and other parameters keep the walking fit."""
+    fitted = [(s, g, c) for s, e in table["styles"].items() for g, c in e.get("contents", {}).items()]
+    assert fitted, "no content was fitted on its own"
+    for style, group, c in fitted:
+        assert set(c["params"]) == set(F.CONTENT_PARAMS[group]) and c["windows"] >= F.MIN_CONTENT_WINDOWS
+        assert c["gap_after"] <= c["gap_before"] + 1e-9, (style, group)  # the fit never ends farther away
+        walk, own = styles.style_mean(style), styles.style_mean(style, content=group)
+        assert all(own[k] == pytest.approx(v) for k, v in c["params"].items())
+        assert all(own[k] == walk[k] for k in walk if k not in c["params"])
+        assert styles.style_mean(style, content="walk") == walk
+        for sub in styles.SUBSTYLES[style]:
+            a, b = styles.style_mean(style, sub), styles.style_mean(style, sub, group)
+            assert all(b[k] - a[k] == pytest.approx(own[k] - walk[k]) for k in c["params"])
+    with pytest.raises(ValueError, match="content"):
+        styles.style_mean("old", content="somersault")
+
+
+def test_a_take_draws_its_contents_means():
+    """At intensity 1 and no spread a take's parameters are its content's means (clipped to the bounds)."""
+    for style, e in styles.FITTED.items():
+        for group in e.get("contents", {}):
+            drawn = styles.sample_style(np.random.default_rng(0), style, None, 1.0, spread=0.0, content=group)
+            mean = styles.style_mean(style, None, group)
+            assert all(drawn[k] == pytest.approx(min(max(mean[k], styles.PARAMS[k][2]), styles.PARAMS[k][3]))
+                       for k in drawn)
+            return
+    pytest.fail("no fitted content")
+
+
 def test_without_the_file_nothing_is_fitted(tmp_path):
     assert load_fitted("styles", tmp_path / "absent.json") == {}
     bad = tmp_path / "bad.json"

@@ -29,9 +29,16 @@ the Jacobian by forward differences with common random numbers (the same generat
 phases at every evaluation, so the objective is smooth), starting from the hand-written table of
 styles.py, with a pull toward it (PRIOR_WEIGHT) so that a parameter nothing sees stays where it
 was. Jerk is weighted less: the generator's smoothest walk still has more of it than real capture.
-Only walks are fitted; runs, jumps, punches and kicks take the posture and tempo from them. (A fit
-on all five contents at once came no closer to the real styles and drove parameters to their
-bounds — an old walker with elbows bent 99° — so it was not kept.)
+The walking fit sets every parameter. (A fit on all five contents at once came no closer to the
+real styles and drove parameters to their bounds — an old walker with elbows bent 99° — so it was
+not kept.) Then each other content is fitted on its own, from the walking fit and pulled toward it:
+a style runs, jumps, punches and kicks with its own posture and vigour (a real depressed or old
+person punches and jumps with nearly a neutral one's speed, while their walks are slow), and a
+walk says little about that. For every content group with at least MIN_CONTENT_WINDOWS real
+windows of the style, the parameters of CONTENT_PARAMS are fitted so that the generated takes of
+that content fall where the real ones do in the discriminant space (its part of the Describer's
+vector; the cues are walking cues). The generator applies such a content fit as a shift of the
+style's (and its sub-styles') means (styles.style_mean).
 
 Sub-styles. Paper D assumes a style varies within itself. Here the variation is the real one: the
 style's walking takes (their per-take mean cues, standardised by the style's spread) are split
@@ -63,6 +70,16 @@ DISCRIMINANT_WEIGHT = 2.0  # per discriminant direction and content group (a cue
 CONTENT_GROUPS = {"walk": range(1, 13), "run": range(13, 16), "jump": (16, 17), "punch": range(18, 22),
                   "kick": (22, 23)}  # built-in content → the Xia content ids that are it (24–28: transitions)
 TAKES_PER_EVALUATION = {"walk": 16}  # generated per evaluation: the fit is on walks (see the docstring)
+_ACTION = ("lean", "chest", "head", "shoulder_raise", "shoulder_back", "arm_out", "elbow", "knee",
+           "action_speed", "action_amp", "jerk")
+CONTENT_PARAMS = {  # content group → the parameters fitted on it alone (see the docstring)
+    "run": ("lean", "chest", "head", "shoulder_raise", "arm_out", "elbow", "arm_swing", "stride",
+            "knee_lift", "cadence", "bounce", "twist"),
+    "jump": _ACTION, "punch": _ACTION, "kick": _ACTION}
+CONTENT_TAKES = 8  # generated takes per evaluation of a content fit
+MIN_CONTENT_WINDOWS = 2  # real windows a style needs in a content for that content to be fitted
+CONTENT_ITERS = 4
+CONTENT_PRIOR_WEIGHT = 0.5  # pull toward the style's walking fit
 N_SUBSTYLES = 3
 PRIOR_WEIGHT = 0.5  # pull toward the hand table, per (10 × the parameter's per-take spread)
 NAMES = {  # cue → (name when the cluster is above its style, name when below)
@@ -200,7 +217,7 @@ class Simulator:
         from mslib.data.mocap_skeleton import to_bvh_motion
         from mslib.data.retarget import register_motion
         original = styles.style_mean
-        styles.style_mean = lambda style, substyle=None: dict(means)
+        styles.style_mean = lambda style, substyle=None, content=None: dict(means)
         try:
             takes = synth.generate_clips(self.specs)
         finally:
@@ -214,11 +231,11 @@ class Simulator:
 
 
 def fit_means(sim, start: dict, target, scale, weights, prior: dict, iters: int, jacobian=None,
-              log=print):
-    """Levenberg–Marquardt on (sim(θ) − target) / scale; returns (θ, cues, residual norm, J)."""
+              log=print, names=FITTED_PARAMS, prior_weight=PRIOR_WEIGHT):
+    """Levenberg–Marquardt over the parameters `names` on (sim(θ) − target) / scale; returns
+    (θ, cues, residual norm, J)."""
     import numpy as np
     from mslib.data.styles import PARAMS
-    names = FITTED_PARAMS
     lo = np.array([PARAMS[k][2] for k in names], float)
     hi = np.array([PARAMS[k][3] for k in names], float)
     step = np.array([max(PARAMS[k][1], 0.02 * (PARAMS[k][3] - PARAMS[k][2])) for k in names])
@@ -230,7 +247,7 @@ def fit_means(sim, start: dict, target, scale, weights, prior: dict, iters: int,
         return {**start, **dict(zip(names, th.tolist()))}
 
     def cost(r, th):
-        return float(r @ r + PRIOR_WEIGHT * (((th - th_prior) / pscale) ** 2).sum())
+        return float(r @ r + prior_weight * (((th - th_prior) / pscale) ** 2).sum())
     cues = sim(means(theta))  # returned as it is (NaN where nothing was generated)
     w = np.where(np.isfinite(target) & np.isfinite(cues), np.sqrt(weights) / scale, 0.0)  # no windows: no say
     target = np.nan_to_num(target)
@@ -244,8 +261,8 @@ def fit_means(sim, start: dict, target, scale, weights, prior: dict, iters: int,
                 h = step[k] if theta[k] + step[k] <= hi[k] else -step[k]
                 th[k] += h
                 J[:, k] = ((np.nan_to_num(sim(means(th))) - target) * w - r) / h
-        A = J.T @ J + PRIOR_WEIGHT * np.diag(1 / pscale ** 2)
-        g = J.T @ r + PRIOR_WEIGHT * (theta - th_prior) / pscale ** 2
+        A = J.T @ J + prior_weight * np.diag(1 / pscale ** 2)
+        g = J.T @ r + prior_weight * (theta - th_prior) / pscale ** 2
         improved = False
         for _ in range(4):
             new = np.clip(theta - np.linalg.solve(A + mu * np.diag(np.diag(A)), g), lo, hi)
@@ -340,13 +357,40 @@ def fit(real, iters: int = 6, progress: bool = True, log=print) -> dict:
             sub, sub_got, _, _ = fit_means(sim, means, sub_target, scale, weights, means, 4, jacobian=J, log=log)
             entry["substyles"][name] = {"takes": len(members), "params": _rounded(sub),
                                         **_summary(describe, None, sub_got, sub_target, scale)}
+        entry["contents"] = fit_contents(style, takes[style], describe, means, target, log)
         out[style] = entry
     return {"command": None, "real": {"folder": real.name, "digest": folder_digest(real)},
             "generator_version": _generator_version(),
             "body": {"takes": len(takes["neutral"]["walk"]), "directions": {str(j): v for j, v in directions.items()}},
             "fitted_params": list(FITTED_PARAMS), "cues": list(CUES), "content_groups": list(CONTENT_GROUPS),
-            "takes_per_evaluation": TAKES_PER_EVALUATION, "evaluations": sim.calls,
+            "takes_per_evaluation": {**TAKES_PER_EVALUATION, **{g: CONTENT_TAKES for g in CONTENT_PARAMS}},
+            "content_params": {g: list(v) for g, v in CONTENT_PARAMS.items()},
+            "evaluations": sim.calls + sum(c["evaluations"] for e in out.values() for c in e["contents"].values()),
             "seconds": round(time.time() - t0, 1), "styles": out}
+
+
+def fit_contents(style: str, groups: dict, describe, means: dict, target, log=print) -> dict:
+    """{content group: its own fit} of one style: CONTENT_PARAMS fitted on that content's part of the
+    described vector, starting from and pulled toward the walking fit `means`."""
+    import numpy as np
+    out = {}
+    for g, names in CONTENT_PARAMS.items():
+        n_windows = len(describe._features(groups.get(g, [])))
+        if n_windows < MIN_CONTENT_WINDOWS:
+            log(f"  {g}: {n_windows} real windows, not fitted (takes the walking fit)")
+            continue
+        sim = Simulator(describe, {g: CONTENT_TAKES})
+        weights = np.zeros(len(target))
+        weights[describe.parts[g]] = DISCRIMINANT_WEIGHT
+        log(f"  {g}: {n_windows} real windows")
+        part = describe.parts[g]
+        before = sim(means)
+        got_means, got, _, _ = fit_means(sim, means, target, np.ones(len(target)), weights, means,
+                                         CONTENT_ITERS, log=log, names=names, prior_weight=CONTENT_PRIOR_WEIGHT)
+        out[g] = {"windows": n_windows, "params": _rounded(got_means, names), "evaluations": sim.calls,
+                  "gap_before": _gap(before[part], target[part], 1.0),
+                  "gap_after": _gap(got[part], target[part], 1.0)}
+    return out
 
 
 def _summary(describe, before, got, target, scale) -> dict:
@@ -365,8 +409,8 @@ def _generator_version():
     return GENERATOR_VERSION
 
 
-def _rounded(means: dict) -> dict:
-    return {k: float(f"{means[k]:.4g}") for k in FITTED_PARAMS}
+def _rounded(means: dict, names=FITTED_PARAMS) -> dict:
+    return {k: float(f"{means[k]:.4g}") for k in names}
 
 
 def _cues(v) -> dict:
@@ -397,8 +441,10 @@ def main(argv=None) -> int:
     atomic_write_bytes(out, (json.dumps(table, indent=1) + "\n").encode("utf-8"))
     for style, e in table["styles"].items():
         subs = ", ".join(f"{n} ({s['takes']})" for n, s in e["substyles"].items())
-        gaps = ", ".join(f"{k} {e['gap_before'][k]} → {e['gap_after'][k]}" for k in e["gap_after"])
-        print(f"{style:<10} gaps in real spreads: {gaps}; sub-styles {subs}")
+        gaps = ", ".join(f"{k} {e['gap_before'][k]} → {e['gap_after'][k]}" for k in e["gap_after"]
+                         if e["gap_after"][k] is not None)
+        own = ", ".join(f"{g} {c['gap_before']} → {c['gap_after']}" for g, c in e["contents"].items())
+        print(f"{style:<10} gaps in real spreads: {gaps}; sub-styles {subs}; own content fits: {own or 'none'}")
     print(f"{table['evaluations']} evaluations in {table['seconds']} s → {out}")
     return 0
 

@@ -43,11 +43,11 @@ def _stand(T, fps, rng, sp, leg, stagger_front=None):
 
 
 def _tempo(sp):
-    return float(np.clip(sp["action_speed"] * np.sqrt(sp["cadence"]), 0.4, 1.4))
+    return float(np.clip(sp["action_speed"] * np.sqrt(sp["cadence"]), 0.4, 1.8))
 
 
 def _amp(sp):
-    return float(np.clip(sp["action_amp"], 0.4, 1.4))
+    return float(np.clip(sp["action_amp"], 0.4, 1.6))
 
 
 def _idle_arms(ang, t, rng, sp):

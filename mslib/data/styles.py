@@ -13,7 +13,10 @@ capture* — the Xia train split — by `tools/fit_styles.py`, which stores them
 `fitted_styles.json` beside this file with the command that made them and the digest of what it
 read. The fitted values replace the hand-written ones; the sub-styles are the fitted ones too (the
 real takes of a style split into thirds along the axis on which they differ most, each third named
-after its most distinctive cue). Without that file the hand-written table is used as it is.
+after its most distinctive cue). Runs, jumps, punches and kicks are then fitted on their own where the
+real takes have them (a real depressed person walks slowly but punches nearly as fast as a neutral
+one): such a content fit shifts the style's means for that content only. Without that file the
+hand-written table is used as it is.
 
 A *content* is what the body does (walk, run, punch, ...): its kind picks the generator (gait or
 action), and its own random draws (speed, curvature, hand, ...) happen in `sample_content`.
@@ -188,9 +191,15 @@ def hand_mean(style: str, substyle: str | None = None) -> dict:
     return {k: float(v) for k, v in out.items()}
 
 
-def style_mean(style: str, substyle: str | None = None) -> dict:
-    """The parameter means of a style (and sub-style): fitted where fitted, else hand-written."""
+def style_mean(style: str, substyle: str | None = None, content: str | None = None) -> dict:
+    """The parameter means of a style (and sub-style, and content): fitted where fitted, else hand-written.
+
+    A content the fit saw on its own (an action or a run, section "contents" of the fitted style) moves
+    the parameters it fitted by how far that content's fit lies from the style's walking fit, so a
+    sub-style keeps its difference from its style in every content."""
     _check("style", style, STYLES)
+    if content is not None:
+        _check("content", content, CONTENTS)
     if style not in FITTED:
         return hand_mean(style, substyle)
     out = hand_mean(style)
@@ -198,6 +207,10 @@ def style_mean(style: str, substyle: str | None = None) -> dict:
     if substyle is not None:
         _check("substyle", substyle, SUBSTYLES[style])
         out.update(FITTED[style]["substyles"][substyle]["params"])
+    own = FITTED[style].get("contents", {}).get(content)
+    if own:
+        for k, v in own["params"].items():
+            out[k] += v - FITTED[style]["params"][k]
     return {k: float(v) for k, v in out.items()}
 
 
@@ -205,15 +218,17 @@ NEUTRAL = style_mean("neutral")
 
 
 def sample_style(rng: np.random.Generator, style: str, substyle: str | None = None,
-                 intensity: float = 1.0, spread: float = 1.0) -> dict:
-    """Draw one take's parameters: neutral + intensity·(style mean − neutral) + Gaussian spread."""
+                 intensity: float = 1.0, spread: float = 1.0, content: str | None = None) -> dict:
+    """Draw one take's parameters: neutral + intensity·(style mean − neutral) + Gaussian spread
+    (both means those of `content` when given)."""
     if not 0.0 <= intensity <= 1.5:
         raise ValueError(f"intensity: must be in [0, 1.5], got {intensity}")
-    mean = style_mean(style, substyle)
+    mean = style_mean(style, substyle, content)
+    neutral = NEUTRAL if content is None else style_mean("neutral", None, content)
     noise = rng.standard_normal(len(PARAMS))
     out = {}
     for (k, (_, sd, lo, hi, _)), z in zip(PARAMS.items(), noise.tolist()):
-        v = NEUTRAL[k] + intensity * (mean[k] - NEUTRAL[k]) + spread * sd * z
+        v = neutral[k] + intensity * (mean[k] - neutral[k]) + spread * sd * z
         out[k] = min(max(v, lo), hi)
     return out
 

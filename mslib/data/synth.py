@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.ndimage import gaussian_filter1d
 
 from ..motion import rotations as rot
 from ..motion.skeleton import PARENTS, Skeleton, forward_kinematics, positions_bone_lengths
@@ -22,7 +23,7 @@ from . import actions, gait, kin, styles
 from .body import FOOT_CONTACT_JOINTS, leg_length, random_body, rot_y
 from .footlock import anchor_root, lock_feet
 
-GENERATOR_VERSION = 3  # bump on any change to the generated numbers: cached corpora are rebuilt
+GENERATOR_VERSION = 4  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
 ANGLE_SMOOTHING = 0.04  # s: Gaussian σ over time of the planned joint angles (real capture is smoother)
 _PLANNERS = {"gait": gait.locomotion, "stand": actions.stand, "punch": actions.punch,
@@ -166,7 +167,7 @@ def _prepare(spec: dict):
     duration = drawn if duration is None else float(duration)
     if not 0.5 <= duration <= 60.0:
         raise ValueError(f"duration: must be in [0.5, 60] seconds, got {duration}")
-    sp = styles.sample_style(rng, style, substyle, intensity)
+    sp = styles.sample_style(rng, style, substyle, intensity, content=content)
     cp = styles.sample_content(rng, content)
     sp.update(spec.get("style_params") or {})
     cp.update(spec.get("content_params") or {})
@@ -176,7 +177,6 @@ def _prepare(spec: dict):
     plan_rng = np.random.default_rng([seed, index, 1])
     plan = _PLANNERS[styles.CONTENT_TABLE[content][0]](T, fps, plan_rng, sp, cp, leg_length(body))
     if ANGLE_SMOOTHING > 0:
-        from scipy.ndimage import gaussian_filter1d
         plan.angles.a = gaussian_filter1d(plan.angles.a, ANGLE_SMOOTHING * fps, axis=0, mode="nearest")
     meta = {"content": content, "style": style, "substyle": substyle, "intensity": intensity,
             "seed": seed, "index": index, "fps": fps, "duration": float((T - 1) / fps), "n_frames": T}

@@ -177,7 +177,9 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   carriage and swing, stride, knee lift, cadence, bounce, sway and tempo, so that its motions are
 #   described like the real style's — by the cues below and by where they fall among the real styles;
 #   the three sub-styles of each style are thirds of its real walks, split along the axis on which
-#   they differ most;
+#   they differ most; then each style's runs, jumps, punches and kicks are fitted on their own, where
+#   the real takes have them (a real depressed actor walks slowly but punches nearly as fast as a
+#   neutral one, so an action cannot simply borrow the walk's tempo);
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
@@ -209,14 +211,16 @@ print(format_cross_scores(realism))
 
 # %% [markdown]
 # Read the figure style by style: the real old walker stoops (trunk pitch, head ahead) and the built-in
-# one now leans forward too, if less far; the real proud walker swings his arms widest. The cross
-# scores are the hard test, and the built-in styles do not pass it yet: the judge trained on real
-# takes recognises real test windows far more often than built-in ones, and it reads several built-in
-# styles as neutral. The cue means can agree while the motion still gives itself away in what the
+# one leans forward too, if less far; the real proud walker swings his arms widest. The cross scores
+# are the hard test, and the built-in styles do not pass it yet: the judge trained on real takes
+# recognises real test windows far more often than built-in ones, and it mistakes several built-in
+# styles for another. The cue means can agree while the motion still gives itself away in what the
 # cues do not measure — how smooth it is (jerk), and how the cues move together within a step. The
-# *by content* line says where: the cues above are fitted on walks, and the built-in walks are read
-# right far more often than its runs, jumps, punches and kicks, whose styles were never fitted to real
-# takes of those actions (real capture has only a handful of such windows per style).
+# *by content* line says where: the built-in walks and runs are read right far more often than its
+# jumps, punches and kicks. Their fits had little to aim at — real capture has only a handful of
+# windows of each action per style, and one or none for some (a proud punch, a neutral one) — and
+# the generator's actions are simpler than an actor's: one arm punches where a real actor's whole
+# trunk follows, and a real jump travels where most built-in jumps stay in place.
 
 # %% [markdown]
 # ## 7. How the benchmark will measure style transfer
