@@ -167,7 +167,8 @@ print("E_s trainable after phase 1:", any(p.requires_grad for p in live.style_en
 # %% [markdown]
 # ## 4. The course checkpoint
 # The packaged model was trained by `OMP_NUM_THREADS=1 python -m mslib train contrastive --preset course
-# --seed SEED` (about 23 minutes on one core). The history of its second phase is stored with the weights:
+# --seed SEED` on one core (the minutes of its second phase are printed below). That phase's history is
+# stored with the weights:
 # reconstruction keeps falling while the triplet term sits near zero — once E_s is frozen, the generated
 # style codes are soon nearer the source's than the target's by the margin.
 
@@ -177,6 +178,7 @@ blob = read_checkpoint(course_path("contrastive"), "contrastive")
 hist = blob["extra"]["history"]
 phase2_seed = blob["extra"]["train_config"]["seed"]  # phase 2 runs with seed + 1 (mslib.training.pretrain_then_freeze)
 print("seed:", phase2_seed - 1, "| autoencoder steps:", model.cfg.pretrain_steps, "| steps with E_s frozen:", hist["step"][-1])
+print(f"phase 2 trained for {hist['seconds'] / 60:.0f} min")
 fig = viz.plot_curves({k: hist["train"][k] for k in ("rec", "nce", "tri", "adv", "d")}, title="course run, phase 2")
 _ = fig
 

@@ -297,7 +297,8 @@ def show_scale(scale):
     m = stylise(scale)
     return viz.plot_strip([m], n_frames=5, row_labels=[f"λ = {scale:g}: P({s_item['style']}) = {style_probability(m):.2f}"])
 
-lams = (0.0, 1.0, 2.5, 5.0)
+course_lam = float(model.cfg.cfg_scale)  # the course preset's λ, chosen on validation pairs
+lams = tuple(sorted({0.0, 1.0, course_lam, 2.5, 5.0}))
 outs = {lam: stylise(lam) for lam in lams}
 fig = viz.plot_strip([s_item["joints"]] + [outs[lam] for lam in lams],
                      n_frames=5, row_labels=[f"style: {s_item['style']}"] + [f"λ = {lam:g}" for lam in lams])
@@ -314,33 +315,34 @@ for lam in lams:
 _ = fig
 
 # %% [markdown]
-# The course model's λ = 2.5 beside its content and style clip, with three style cues over time (head height,
+# The course model's λ (printed in the title) beside its content and style clip, with three style cues over time (head height,
 # trunk pitch, how far the left wrist leads the right, in leg lengths L): grey is the content, orange the style
 # clip, blue the output. Where blue leaves grey toward orange, the style moved; where it stays on grey, the
 # content's own way of moving survived.
 
 # %%
-fig = plot_transfer(c_item["joints"], s_item["joints"], outs[2.5],
-                    titles=[f"content: {c_item['content']}", f"style: {s_item['style']} ({s_item['content']})", "λ = 2.5"])
+fig = plot_transfer(c_item["joints"], s_item["joints"], outs[course_lam],
+                    titles=[f"content: {c_item['content']}", f"style: {s_item['style']} ({s_item['content']})",
+                            f"λ = {course_lam:g} (course)"])
 
 # %% [markdown]
 # Move the slider to redraw (each λ is sampled once, then cached). Below it, **try it** in 3-D: the same
 # guidance scale on the viewer (drag to turn the skeletons, scroll to zoom, play, pause or scrub; feet light up
 # while they touch the floor; without a running kernel a still picture stands in). The cell after it prints the
-# explorer's numbers at λ = 0 and at the preset's 2.5.
+# explorer's numbers at λ = 0 and at the preset's λ.
 
 # %%
 # NBVAL_IGNORE_OUTPUT
 from mslib.widgets import slider_figure
-slider_figure(show_scale, values=lams, description="λ", start=2.5)
+slider_figure(show_scale, values=lams, description="λ", start=course_lam)
 
 # %%
 # NBVAL_IGNORE_OUTPUT
 from mslib.explorers import explore_guidance, guidance_view
-explore_guidance("c00000", "angry", 2.5)
+explore_guidance("c00000", "angry", course_lam)
 
 # %%
-for lam in (0.0, 2.5):
+for lam in (0.0, course_lam):
     print(guidance_view("c00000", "angry", lam).summary())
 
 # %% [markdown]
@@ -420,7 +422,7 @@ for claim, result in claims.items():
 # the diffusion loss alone gives the short run *more* style (SRA), not less, and pays for it in content (CRA) —
 # with nothing pulling its codes toward style captions, it is free to carry whatever helps reconstruction,
 # content included. B's λ sweep also has a turn the table shows: past λ ≈ 2.5, SRA stops rising while CRA keeps
-# falling, which is why H picks the course preset's λ on validation pairs.
+# falling — and H, which needs both, picked the course preset's λ below B's 2.5 on validation pairs.
 
 # %% [markdown]
 # ## 9. On the benchmark
@@ -465,18 +467,18 @@ print("ddim_step lands on the forward process")
 
 # %% [markdown]
 # **Exercise 2 (1 point) — predict, then run.** At λ = 0 the denoiser ignores the style clip (the unconditional
-# prediction). *Predict* first: compared with λ = 2.5, does the content classifier then find the content's
+# prediction). *Predict* first: compared with the course preset's λ (`course_lam`), does the content classifier then find the content's
 # action **more** or **less** clearly in the output? Write `prediction = "more"` or `"less"`. Then measure, on the
 # first 10 benchmark pairs (`pairs[:10]`): `p_content[lam]`, the content classifier's mean probability of each
 # pair's true content (`evaluator.content.classes` names the columns of `evaluator.content.score(motions)[0]`;
 # a softmax turns them into probabilities) for outputs `decode(tr(c["features"], s["features"], scale=lam))`,
-# λ = 0 and 2.5. The hidden test grades the prediction against your measurement.
+# λ = 0 and `course_lam`. The hidden test grades the prediction against your measurement.
 
 # %% [nbgrader solution id=ex04_predict_lambda]
 ### BEGIN SOLUTION
 prediction = "more"
 p_content = {}
-for lam in (0.0, 2.5):
+for lam in (0.0, course_lam):
     outs_ = [decode(tr(c["features"], s["features"], scale=lam)) for c, s in pairs[:10]]
     probs = torch.as_tensor(evaluator.content.score(outs_)[0]).softmax(1)
     idx = [evaluator.content.classes.index(c["content"]) for c, _ in pairs[:10]]
@@ -485,14 +487,15 @@ for lam in (0.0, 2.5):
 
 # %% [nbgrader tests id=ex04_predict_lambda_check points=1]
 assert prediction in ("more", "less"), "prediction: 'more' or 'less'"
-assert set(p_content) == {0.0, 2.5} and all(0 <= v <= 1 for v in p_content.values()), "p_content: a probability for λ = 0 and 2.5"
+assert set(p_content) == {0.0, course_lam} and all(0 <= v <= 1 for v in p_content.values()), \
+    "p_content: a probability for λ = 0 and course_lam"
 ### BEGIN HIDDEN TESTS
 ref = {}
-for lam in (0.0, 2.5):
+for lam in (0.0, course_lam):
     ms = [decode(tr(c["features"], s["features"], scale=lam)) for c, s in pairs[:10]]
     pr = torch.as_tensor(evaluator.content.score(ms)[0]).softmax(1)
     ref[lam] = float(pr[torch.arange(10), [evaluator.content.classes.index(c["content"]) for c, _ in pairs[:10]]].mean())
 assert all(abs(p_content[k] - ref[k]) < 1e-6 for k in ref), "measure on pairs[:10] with the course model"
-assert prediction == ("more" if ref[0.0] > ref[2.5] else "less")
+assert prediction == ("more" if ref[0.0] > ref[course_lam] else "less")
 ### END HIDDEN TESTS
 print("checked")

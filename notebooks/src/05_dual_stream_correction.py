@@ -206,8 +206,9 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA and SRA do not move together, and FSF and jitter fall as the
-# correction grows.
+# table says which). Read the columns: CRA rises with κ, while SRA first rises and then falls — a light
+# correction makes the style easier to read, a full one smooths part of it away. Jitter falls all the way;
+# foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
 
 # %%
 st = ablation["strength"]

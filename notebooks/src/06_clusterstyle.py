@@ -402,9 +402,9 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
       f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
-# **D Table 3 does not reproduce here**: in these short runs the plain classification head gives the adapter
-# more style (SRA) than the clustering, though by less than two standard errors. What the prototypes do buy is the
-# diversity of §7.
+# **D Table 3 is not confirmed here**: in these short runs the two heads give the adapter about the same style
+# (the SRA difference above is within two standard errors), and the clustering pays for its share in content
+# (CRA). What the prototypes do buy is the diversity of §7.
 #
 # ## 10. On the benchmark
 # The default draw (seed 0, 200 held-out pairs; notebook 07 compares every method): SDEdit from

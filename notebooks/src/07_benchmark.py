@@ -4,7 +4,7 @@
 # # 07 · The benchmark: every method on the same held-out pairs
 #
 # Notebooks 02–06 each built one method. Here they meet on **one draw of held-out (content, style)
-# pairs**, scored by the same independent evaluator (notebook 00 §6): two classifiers trained once on
+# pairs**, scored by the same independent evaluator (notebook 00 §7): two classifiers trained once on
 # labelled built-in data and never seen by any method.
 #
 # **What you will learn**
@@ -214,7 +214,7 @@ else:
 # carries over — but the target style is recognised in only a fraction of the outputs: on real motion the
 # methods move the style much less than on built-in motion. Compare adain with adain+dsdn there: the
 # stage-2 correction, trained on built-in motion, smooths part of the real style back out. That gap is the
-# honest state of the course models, and the reason the built-in data is being made more real (notebook 00 §6).
+# honest state of the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
 # %% [markdown]
 # **Speed.** `python -m mslib perf` times every method on a 64-frame clip (median of 20 runs after

@@ -45,7 +45,7 @@ class DsdnConfig(Config):
     clip_frames: int = 196  # training crop length (feature rows), a multiple of 4
     correction_strength: float = 1.0  # inference: κ in P + κ·(DSDN(P) − P); 1 = A's full correction
 
-    PRESETS: ClassVar[dict] = {"paper": {}, "course": dict(clip_frames=64, correction_strength=0.75)}
+    PRESETS: ClassVar[dict] = {"paper": {}, "course": dict(clip_frames=64, correction_strength=0.5)}
 
 
 class DynamicStream(nn.Module):

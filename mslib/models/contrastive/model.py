@@ -36,7 +36,9 @@ The `paper` preset (the dataclass defaults) is C as written (C §4.1: 144-d code
   Why: an autoencoder alone teaches E_s what G needs to reconstruct a clip, not what stays the same through
   a recording; the judge C Eq. 4 freezes should know the latter.
 `style_strength` w (1: C's transfer) decodes with E_s(M^T) + w·(E_s(M^S) − E_s(M^T)), C Fig. 10–11's mix of
-two style codes with the target's own code as one end.
+two style codes with the target's own code as one end. The course keeps w = 1 although a larger w scores a
+higher H on validation pairs (`tools/contrastive_findings.py strength`): w > 1 extrapolates past the style
+clip's own code, which C never does.
 """
 from __future__ import annotations
 
