@@ -173,9 +173,10 @@ fig.tight_layout()
 _ = fig
 
 # %% [markdown]
-# Once the decoder must also match the style's statistics, $\mathcal{L}_{style}$ falls while
-# $\mathcal{L}_{content}$ gives a little back: the two terms pull against each other, which is why A
-# weighs them with $\lambda$s.
+# Once the decoder must also match the style's statistics, $\mathcal{L}_{style}$ falls, on the training
+# batches and on validation alike (the last line above). $\mathcal{L}_{content}$ does not fall with it: the
+# line before shows it giving a little back on the training batches and barely moving on validation. The two
+# terms pull against each other, which is why A weighs them with $\lambda$s.
 
 # %% [markdown]
 # ## 4. The course checkpoint
@@ -185,8 +186,8 @@ _ = fig
 # `tools/adain_variants.py --only recipes` trained that recipe and the plain one on two seeds each and
 # scored them on val pairs (appendix 08 tables the search); the recipe and the seed were chosen there, by a rule written
 # down before the last run was scored, never on the benchmark's test pairs. Its history travels with it:
-# the final validation content loss stays close to the training one, so the model reconstructs unseen
-# clips as well as seen ones.
+# the final validation content loss is no higher than the training one (their ratio is printed below), so
+# the model reconstructs unseen clips at least as well as seen ones.
 
 # %%
 if course_path("adain").is_file():
@@ -206,9 +207,11 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # ## 5. What moved? One content in four styles, and a demo pair with its cues
 # A walk from the content corpus's test split, transferred with one test clip of each of the four styles stage 1
 # moved most often on **validation** pairs (by the evaluator's reading, `tools/adain_variants.py`). Stick figures
-# of one walk in four styles look much alike at this size: AdaIN moves statistics, so look for a lower head, a
-# forward lean, a smaller swing. The numbers below the strip give two posture cues (the mean over the clip) of
-# the content, of each output and of its style clip: the output sits between the two where the style moved.
+# of one walk in four styles look much alike at this size: AdaIN moves statistics, so look for a change of lean,
+# of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
+# content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
+# between the content's and the clip's, so the lean moved toward the style; the head height moves far less, and
+# where it does move it need not stop between the two.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
@@ -257,8 +260,9 @@ print("the evaluator reads the transfer as:", evaluator.read_style(demo_out))
 # **Try it.** The explorer below runs the packaged model live: pick a content clip, a style and a method, and
 # compare the output with its content and style clips; the bars are the independent style classifier's
 # probabilities for the output. It opens on the style stage 1 moves most reliably on the **val** pairs, the first
-# of the strip's four; then try the others, where it often does not. The cell after it calls the same function
-# with fixed choices and prints them.
+# of the strip's four. Then try the others: it moves the rest of the strip less reliably, and the other
+# non-neutral styles less reliably still. The cell after it calls the same function with fixed choices and
+# prints them.
 
 # %%
 DEMO = demo_style(by_style)
@@ -308,12 +312,13 @@ print("of the two halves, more jitter:", max(halves, key=lambda n: np.mean(fig2[
 
 # %% [markdown]
 # Compare with A Fig. 2, where variance-only transfer showed the *dynamic* noise (shaking) and
-# mean-only the *static* noise (a distorted arm). Read the two halves against each other above: the
-# half that moves σ is the one that adds the jitter, and the half that moves μ is the one that shifts
-# the pose away from the content — the paper's split. σ sets how far each channel swings over time,
-# so a wrong σ shows up as motion that shakes; μ sets where each channel sits, so a wrong μ shows up as
-# a pose held in the wrong place. The full transfer carries both kinds of noise — what stage 2
-# (notebook 05) learns to remove.
+# mean-only the *static* noise (a distorted arm). The last line above reads the two halves against each
+# other: the half that moves σ (variance only) adds more jitter, and the half that moves μ (mean only)
+# shifts the pose further from the content — the paper's split. Neither half is pure: mean-only shakes
+# more than the content too, and variance-only moves the pose a little. σ sets how far each channel swings
+# over time, so a wrong σ shows up as motion that shakes; μ sets where each channel sits, so a wrong μ shows
+# up as a pose held in the wrong place. The full transfer carries both kinds of noise — in the table it has
+# the most jitter and the largest pose offset — what stage 2 (notebook 05) learns to remove.
 #
 # ## 7. On the benchmark
 # The same 200 held-out pairs every method meets (notebook 07), scored by the independent evaluator:

@@ -226,10 +226,10 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 
 # %% [markdown]
 # Read neighbouring rows as a plateau, not a ranking: an accuracy on 200 pairs moves by several points
-# from the draw alone. Raising $w$ trades content (CRA) for style (SRA), and more transfers take the style
-# clip's *content* with its style (the last column). The course keeps C's $w = 1$: the best H lies past
-# it, at an extrapolation beyond the style clip's own code, and a $w$ fitted to one run's sweep need not
-# suit another run.
+# from the draw alone. Raising $w$ trades content (CRA) for style (SRA): CRA falls and SRA rises down the
+# table. The last column stays small: at every $w$ only a few transfers take the style clip's *content* with
+# its style. The course keeps C's $w = 1$: the best H in the table lies past it, at an extrapolation beyond
+# the style clip's own code, and a $w$ fitted to one run's sweep need not suit another run.
 #
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
@@ -261,13 +261,17 @@ print(f"{results['steps']} steps per short run, {len(labels)} held-out style cli
 print("C Fig. 2 (silhouette with the terms > without):", results["with"]["silhouette"] > results["without"]["silhouette"])
 
 # %% [markdown]
-# Neither picture shows clusters by style, and the silhouette is no higher with the terms than without:
-# **C Fig. 2 does not reproduce here.** In a short joint run the triplet can be met by E_s moving its own
-# codes, and InfoNCE shapes the *content* code, not the style code. The β sweep (C Table 1) and the unseen
-# style (C Fig. 3) do not reproduce either; appendix 08 gives their numbers. What the course model's E_s
-# learned instead — the autoencoder phase and the two windows of one recording — groups its codes far
-# better, as this check on the same held-out clips shows (1-NN: does a code's nearest code from *another*
-# take have its style? chance is about 1/8):
+# The last line says True: the silhouette is higher with the terms than without, so **C Fig. 2 holds
+# here** — the contrastive terms make the style codes group better. Better is not well: both silhouettes in
+# the titles are below zero (the codes of one style are, on average, no closer to each other than to
+# another style's), and neither picture shows clean clusters by style. In a short joint run the triplet can
+# be met by E_s moving its own codes, and InfoNCE shapes the *content* code, not the style code, so the terms
+# have little grip on the style codes. The other two claims measured on such short runs do not hold here: the
+# best β of the sweep is not C's (C Table 1), and the codes of a style left out of training do not group (C Fig. 3);
+# appendix 08 gives their numbers. What the course model's E_s learned through the course's departures —
+# the autoencoder phase and the two windows of one recording — groups its codes far better than the short
+# run with C's terms, as this check on the same held-out clips shows (1-NN: does a code's nearest code from
+# *another* take have its style? chance is about 1/8):
 
 # %%
 from mslib.evaluation import embedding as E

@@ -210,17 +210,19 @@ else:
 # **Reading the two tables.** The packaged evaluator learned its classes from built-in motion only: on
 # real contents its content classifier is mostly wrong (read identity's CRA), so its CRA and H say little
 # here. The real judge recognises the grid's takes themselves almost perfectly, and by it every method
-# keeps more content than copy_style and takes more style than identity — something of the transfer
-# carries over — but the target style is recognised in only a fraction of the outputs: on real motion the
-# methods move the style much less than on built-in motion. Compare adain with adain+dsdn there: the
-# stage-2 correction, trained on built-in motion, smooths part of the real style back out. That gap is the
-# honest state of the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
+# keeps more content than copy_style, takes more style than identity and has a higher H than both
+# reference rows — something of the transfer carries over — but the target style is recognised in only a
+# fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
+# Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps more of the
+# real content but smooths part of the real style back out (its SRA is well below adain's), so by the real
+# judge its H is lower than adain's — the reverse of the built-in table. That gap is the honest state of
+# the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
 # %% [markdown]
 # **Speed.** `python -m mslib perf` times every method on a 64-frame clip (median of 20 runs after
-# warm-up) and counts its parameters; `ms_per_clip` of `python -m mslib bench --json` is the same
-# measure over the draw. Timings depend on the machine, so this notebook plots them (the picture is
-# not compared by nbval) rather than printing them.
+# warm-up) and counts its parameters; `ms_per_clip` of `python -m mslib bench --json` is the mean time
+# per pair over the draw (each clip at its own length). Timings depend on the machine, so this notebook
+# plots the second for its 40 pairs (the picture is not compared by nbval) rather than printing them.
 
 # %%
 fig, ax = plt.subplots(figsize=(6, 2.8))

@@ -76,9 +76,9 @@ for m in ("adain", "adain+dsdn"):
            "python -m mslib bench --method all --pairs 200")
 
 # %% [markdown]
-# Both stages clear the references on the built-in pairs. On real pairs stage 1 does too, while the
-# corrected transfer lands level with copy_style: DSDN was trained to undo stage 1's artefacts on
-# built-in motion, and on real motion it also smooths away part of the real style it was given.
+# Both stages clear the references, on the built-in pairs and on the real ones. On real pairs the
+# correction costs style (compare the two SRAs of the real column): DSDN was trained to undo stage 1's
+# artefacts on built-in motion, and on real motion it also smooths away part of the real style it was given.
 #
 # **A Table 2** (the ablation of stage 2): the dual-stream network with its gate beats either stream
 # alone — here on the reconstruction loss $L_{rec}$ (A Eq. 11) and the velocity loss $L_{vel}$ (A Eq. 12)
@@ -97,8 +97,8 @@ record("A Table 2: the dual stream has the lowest L_vel", min(rows, key=lambda k
 
 # %% [markdown]
 # The gate earns its place on reconstruction: the fused output is closer to the clean motion than either
-# stream's. On smoothness it does not: the dynamic (LSTM) stream alone has the smoothest output, and the
-# gate trades some of that smoothness for the static stream's better poses.
+# stream's. On smoothness it does not: the dynamic (LSTM) stream alone has by far the smoothest output, and
+# the fused one is not smoother than the static stream either — the gate buys its poses with velocity error.
 #
 # **A §4.3** (what stage 2 is for): the correction lowers foot sliding (FSF) and jitter. The stored
 # correction-strength sweep (κ = 0 is stage 1 alone) and the benchmark rows:
@@ -202,10 +202,10 @@ record("C §4: the course model beats both reference rows on H", beats_reference
        beats_references(real, "contrastive"), "python -m mslib bench --method all --pairs 200")
 
 # %% [markdown]
-# C's representation claims do not reproduce here. In short CPU runs the style codes do not separate by
-# style better with the contrastive terms than without, and the best β of the sweep is not C's — one short
-# run per β, so hold the differences against the seed spread of the recipe search below (one run's luck moved
-# H by a few hundredths there). The packaged course model nevertheless transfers well on H: its style encoder
+# C's representation claims reproduce only in part. In short CPU runs the contrastive terms do make the style
+# codes group better than without them (C Fig. 2), but the best β of the sweep is not C's, and the codes of a
+# style never seen in training do not group (C Fig. 3) — one short run per β, so hold the differences against
+# the seed spread of the recipe search below (one run's luck moved H by a few hundredths there). The packaged course model nevertheless transfers well on H: its style encoder
 # was first trained as an autoencoder and then frozen (notebook 03 §1), which is a departure from C, not C's
 # joint training.
 #
@@ -227,9 +227,9 @@ f5 = cs["fig5"]["summary"]["transfer"]
 print(f"transfers: prototype k with seed k more diverse than seeds alone in {f5['paired_beats_seeds']['diversity']}"
       f"/{f5['examples']} examples (diversity), {f5['paired_beats_seeds']['pose_cm']}/{f5['examples']} (pose)")
 record("D Table 3: the prototype head beats the classification head on SRA",
-       heads["prototypes"]["sra"] > heads["classifier"]["sra"], command=cs["table3"]["command"] + " --only table3")
+       heads["prototypes"]["sra"] > heads["classifier"]["sra"], command=cs["table3"]["command"])
 record("D Fig. 5: prototypes add diversity to transfers (most examples)",
-       2 * f5["paired_beats_seeds"]["diversity"] > f5["examples"], command=cs["fig5"]["command"] + " --only fig5")
+       2 * f5["paired_beats_seeds"]["diversity"] > f5["examples"], command=cs["fig5"]["command"])
 record("D §4: clusterstyle beats both reference rows on H", beats_references(bench, "clusterstyle"),
        beats_references(real, "clusterstyle"), "python -m mslib bench --method all --pairs 200")
 record("D §4: clusterstyle's outputs are more diverse than adain's",
@@ -237,17 +237,21 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
        real["clusterstyle"]["diversity"] > real["adain"]["diversity"] if real else None, "python -m mslib bench --method all")
 
 # %% [markdown]
-# D's diversity claim holds in the built-in world — choosing a prototype moves the output in a way a new
-# seed alone does not — while its Table 3 does not: the clustering head is not better than a plain
-# classifier here. On real pairs clusterstyle's outputs are less diverse than AdaIN's.
+# D's diversity claim holds — choosing a prototype moves the output in a way a new seed alone does not, and
+# clusterstyle's outputs are more diverse than AdaIN's on both benchmarks. Its Table 3 is weaker here than in
+# D: the clustering head reads as more style than a plain classifier, but by less than one standard error,
+# and it gives up content (CRA) for it.
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
-# Here is the gist of each search, as stored.
+# Here is the gist of each search, as stored. The two recipe searches (A's and C's) train many models and were
+# not re-run when the built-in corpora were last refitted: their rows name the commit, and so the corpora,
+# they were measured on; the packaged checkpoints were retrained with the recipes they chose.
 
 # %%
 av = load_findings("02_adain_variants")
-print("A stage 1, where the style statistics come from (tools/adain_variants.py; best val H over w):")
+print(f"A stage 1, where the style statistics come from (tools/adain_variants.py; best val H over w; stored at "
+      f"commit {av['variants']['commit']}, on the corpora of that commit):")
 best_var = {}
 for r in av["variants"]["rows"]:
     best_var[r["variant"]] = max(best_var.get(r["variant"], 0.0), r["h"])
