@@ -63,14 +63,16 @@ def test_interpolation_ends_are_c_transfers_with_each_style():
 
 
 def test_guidance_scale_changes_the_output():
-    views = {lam: E.guidance_view(CONTENT, "angry", lam) for lam in (0.0, 2.5)}
+    from mslib.models.mcm_ldm.model import MCMConfig
+    course = MCMConfig.preset("course").cfg_scale
+    views = {lam: E.guidance_view(CONTENT, "angry", lam) for lam in (0.0, course)}
     for view in views.values():
         check_view(view, "guidance", 3)
-    assert not np.array_equal(views[0.0].output, views[2.5].output)
+    assert not np.array_equal(views[0.0].output, views[course].output)
     k = views[0.0].classes.index("angry")
-    assert views[2.5].output_probabilities[k] > views[0.0].output_probabilities[k]
-    # B's default λ is the registry method's
-    assert np.array_equal(views[2.5].output, E.transfer_view(CONTENT, "angry", "mcm_ldm").output)
+    assert views[course].output_probabilities[k] > views[0.0].output_probabilities[k]
+    # the course preset's λ is the registry method's
+    assert np.array_equal(views[course].output, E.transfer_view(CONTENT, "angry", "mcm_ldm").output)
 
 
 def test_a_prototype_choice_changes_the_generated_motion():
