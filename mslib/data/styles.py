@@ -196,7 +196,8 @@ def style_mean(style: str, substyle: str | None = None, content: str | None = No
 
     A content the fit saw on its own (an action or a run, section "contents" of the fitted style) moves
     the parameters it fitted by how far that content's fit lies from the style's walking fit, so a
-    sub-style keeps its difference from its style in every content."""
+    sub-style keeps its difference from its style in every content (until `sample_style` clips a
+    parameter at its bound, where that difference is lost)."""
     _check("style", style, STYLES)
     if content is not None:
         _check("content", content, CONTENTS)
