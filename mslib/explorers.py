@@ -310,9 +310,15 @@ def prototype_view(style: str = "old", prototype=0, caption: str = CAPTION, seed
     return _view("prototypes", title, shown, (label,), facts, cached)
 
 
-def guidance_view(content: str = "c00000", style: str = "angry", scale: float = 2.5) -> View:
-    """Paper B at guidance scale λ (B Eq. 5: ε̂ = ε(∅) + λ·(ε(s) − ε(∅))), shown as content | output | style."""
-    lam = _number(scale, "scale", 0.0)
+def _course_scale() -> float:
+    """The packaged MCM-LDM's guidance scale λ (its course preset's, chosen on validation pairs)."""
+    return float(_mcm_ldm().model.cfg.cfg_scale)
+
+
+def guidance_view(content: str = "c00000", style: str = "angry", scale: float | None = None) -> View:
+    """Paper B at guidance scale λ (B Eq. 5: ε̂ = ε(∅) + λ·(ε(s) − ε(∅))), shown as content | output | style;
+    `scale` None: the course model's λ."""
+    lam = _course_scale() if scale is None else _number(scale, "scale", 0.0)
     c = _clip(content, "content")
     s_id, label = resolve_style(style)
     s = _clip(s_id, "style")
@@ -393,16 +399,18 @@ def explore_prototypes(style: str = "old", prototype=0, caption: str = CAPTION, 
     return Explorer("prototypes", prototype_view, controls, busy=lambda ch: "sampling clusterstyle (diffusion) …")
 
 
-def explore_guidance(content: str = "c00000", style: str = "angry", scale: float = 2.5, scales=SCALES):
-    """Dropdowns for the content and the style, a slider over the guidance scales λ (B Eq. 5)."""
+def explore_guidance(content: str = "c00000", style: str = "angry", scale: float | None = None, scales=SCALES):
+    """Dropdowns for the content and the style, a slider over the guidance scales λ (B Eq. 5), starting at
+    `scale` (None: the course model's λ)."""
     import ipywidgets as W
 
     from .widgets import Explorer, _check_values
-    lam = _number(scale, "scale", 0.0)
+    lam = _course_scale() if scale is None else _number(scale, "scale", 0.0)
+    steps = _mcm_ldm().model.cfg.ddim_steps
     values = _check_values(sorted(set(_check_values(scales, "scales")) | {lam}), "scales")
     if values[0] < 0:
         raise ValueError(f"scales: a guidance scale is ≥ 0, got {values[0]:g}")
     controls = {"content": _content_dropdown(content), "style": _style_dropdown(style),
                 "scale": W.SelectionSlider(options=[(f"{v:g}", v) for v in values], value=lam, description="λ",
                                            continuous_update=False, layout=W.Layout(width="360px"))}
-    return Explorer("guidance", guidance_view, controls, busy=lambda ch: "sampling mcm_ldm (50 DDIM steps) …")
+    return Explorer("guidance", guidance_view, controls, busy=lambda ch: f"sampling mcm_ldm ({steps} DDIM steps) …")

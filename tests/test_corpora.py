@@ -208,13 +208,19 @@ def _stats(folder, rows):
     return np.stack(out)
 
 
-def test_styles_are_separable_from_simple_statistics(medium):
+@pytest.fixture(scope="module")
+def style_stats(medium):
+    """The medium style corpus's label rows and their per-clip statistics (read once for the tests below)."""
+    folder = medium / "style"
+    rows = read_labels(folder)
+    return rows, _stats(folder, rows)
+
+
+def test_styles_are_separable_from_simple_statistics(style_stats):
     from sklearn.linear_model import LogisticRegression
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
-    folder = medium / "style"
-    rows = read_labels(folder)
-    X = _stats(folder, rows)
+    rows, X = style_stats
     style = np.array([r["style"] for r in rows])
     split = np.array([r["split"] for r in rows])
     clf = make_pipeline(StandardScaler(), LogisticRegression(max_iter=2000))
@@ -224,15 +230,13 @@ def test_styles_are_separable_from_simple_statistics(medium):
 
 
 @pytest.fixture(scope="module")
-def substyle_scores(medium):
+def substyle_scores(style_stats):
     """Per style: (cross-validated accuracy of its sub-style labels, chance), over takes (no take on both sides)."""
     from sklearn.linear_model import LogisticRegression
     from sklearn.model_selection import GroupKFold, cross_val_score
     from sklearn.pipeline import make_pipeline
     from sklearn.preprocessing import StandardScaler
-    folder = medium / "style"
-    rows = read_labels(folder)
-    X = _stats(folder, rows)
+    rows, X = style_stats
     style, take, sub = (np.array([r[k] for r in rows]) for k in ("style", "take", "substyle"))
     out = {}
     for s in STYLES:

@@ -71,8 +71,9 @@ def test_guidance_scale_changes_the_output():
     assert not np.array_equal(views[0.0].output, views[course].output)
     k = views[0.0].classes.index("angry")
     assert views[course].output_probabilities[k] > views[0.0].output_probabilities[k]
-    # the course preset's λ is the registry method's
+    # the course preset's λ is the registry method's, and the explorer's default
     assert np.array_equal(views[course].output, E.transfer_view(CONTENT, "angry", "mcm_ldm").output)
+    assert E.guidance_view(CONTENT, "angry").facts["λ"] == course
 
 
 def test_a_prototype_choice_changes_the_generated_motion():
