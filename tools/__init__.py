@@ -5,7 +5,7 @@
                            current_commit
     adain_variants         A stage 1 design checks, recipes and strength on val pairs → 02_adain_variants.json
     dsdn_ablation          A Table 2 (DSDN's streams) and the correction strength → 05_dsdn_ablation.json
-    mcm_ldm_ablations      B Table 2 ablations of the packaged MCM-LDM → 04_ablations.json
+    mcm_ldm_ablations      B Table 2 ablations, the λ sweep, and λ, steps and seed chosen on val → 04_ablations.json
     contrastive_analysis   C Fig. 2, Table 1, Fig. 10–11, Fig. 3 from short runs → 03_contrastive_findings.json
     contrastive_findings   C's recipe variants, seeds and strengths on val pairs → 03_contrastive_recipes.json
     clusterstyle_findings  D Fig. 5 (pose sets) and Table 3 (ablations) → 06_clusterstyle_findings.json

@@ -16,12 +16,14 @@ variants  where the style statistics come from, each trained with the course siz
 strength  the packaged course checkpoint at w ∈ {0.4, 0.45, 0.5, 0.55, 0.6, 0.7} on the same val pairs:
           how the course preset's `style_strength` was chosen; also its SRA and CRA style by style there
           (`by_style`), from which notebook 02 picks its demo style (`mslib.notebook.demo_style`).
-recipes   full course-length runs (`--recipes NAME,...`, `--seeds 0,1`), each scored on the val pairs at
-          w ∈ {0.5, 0.6}: how the packaged checkpoint's recipe and seed are chosen (the best val H; rows
-          merge by recipe and seed, so two processes can each train some):
-          course         the course preset as it is;
+recipes   full course-length runs (`--recipes NAME,...`, `--seeds 0,1,2,3`), each scored on the val pairs at
+          w ∈ RECIPE_STRENGTHS: how the packaged checkpoint's recipe and seed are chosen (RECIPE_RULE; rows
+          merge by recipe and seed, so two processes can each train some; rows made on other corpora than
+          the current build's are dropped):
+          course         the course preset as it is (λ_content = 2: A Eq. 5 with the content path counted twice,
+                         adopted over the plain weights by this search on an earlier corpus);
           wide           hidden 128 (twice the channels: a closer autoencoder keeps more content);
-          content2       λ_content = 2 (A Eq. 5's weights, the content path counted twice).
+          content1       λ_content = 1 (A Eq. 5's weights as written).
 """
 from __future__ import annotations
 
@@ -43,11 +45,12 @@ VARIANTS = {
     "shared_frozen": dict(shared_encoder=True),
 }
 STRENGTHS = (0.5, 0.75, 1.0)
-RECIPES = {"course": {}, "wide": dict(hidden=128), "content2": dict(lambda_content=2.0)}
-RECIPE_STRENGTHS = (0.5, 0.6)
-RECIPE_RULE = ("adopt a recipe over 'course' only if its mean val H at the course strength (w 0.5) over seeds 0 and 1 "
-               "beats course's by at least 0.02; package the seed of the adopted recipe with the best val H "
-               "(fixed before content2 seed 1 was scored)")
+RECIPES = {"course": {}, "wide": dict(hidden=128), "content1": dict(lambda_content=1.0)}
+RECIPE_STRENGTHS = (0.5, 0.55, 0.6)
+RECIPE_RULE = ("adopt a recipe over 'course' only if its mean val H at the course strength over the same seeds beats "
+               "course's by at least 0.02; package the seed of the adopted recipe with the best val H at the course "
+               "strength, unless the packaged checkpoint's own val H there (section 'strength') is higher: then keep it "
+               "(fixed before any run on the current corpora was scored)")
 
 
 def score(model, pairs, evaluator, strength: float) -> dict:
@@ -96,6 +99,8 @@ def recipes(paths, pairs, evaluator, names, seeds, keep_dir=None) -> dict:
     """Train each recipe at the course length for every seed and score it on the val pairs."""
     import json
     from mslib.models import adain as A
+    from mslib.data.corpora import source_fingerprint
+    corpus, course_w = source_fingerprint(), A.AdainConfig.preset("course").style_strength
     rows = {}
     for name in names:
         for seed in seeds:
@@ -106,11 +111,35 @@ def recipes(paths, pairs, evaluator, names, seeds, keep_dir=None) -> dict:
                                      config=cfg)
             for w in RECIPE_STRENGTHS:
                 rows[(name, seed, w)] = {"recipe": name, "seed": seed, **score(model, pairs, evaluator, w),
-                                         "train_seconds": round(time.time() - t0, 1), "commit": current_commit()}
+                                         "train_seconds": round(time.time() - t0, 1), "commit": current_commit(),
+                                         "corpus": corpus}
                 print(rows[(name, seed, w)], flush=True)
     old = json.loads(OUT.read_text()).get("recipes", {}) if OUT.is_file() else {}  # re-read: runs in parallel merge
-    rows = {**{(r["recipe"], r["seed"], r["strength"]): r for r in old.get("rows", [])}, **rows}
-    return {"rows": sorted(rows.values(), key=lambda r: (r["recipe"], r["seed"], r["strength"])), "rule": RECIPE_RULE}
+    rows = {**{(r["recipe"], r["seed"], r["strength"]): r for r in old.get("rows", []) if r.get("corpus") == corpus},
+            **rows}
+    rows = sorted(rows.values(), key=lambda r: (r["recipe"], r["seed"], r["strength"]))
+    return {"rows": rows, "rule": RECIPE_RULE, "course_strength": course_w, "corpus": corpus,
+            **apply_recipe_rule(rows, course_w)}
+
+
+def apply_recipe_rule(rows, course_w: float) -> dict:
+    import json
+    """RECIPE_RULE on the stored rows: the adopted recipe and the seed to package."""
+    h = {(r["recipe"], r["seed"]): r["h"] for r in rows if abs(r["strength"] - course_w) < 1e-9}
+    seeds = sorted(s for n, s in h if n == "course")
+    if not seeds:
+        return {}
+    mean = {n: sum(h[(n, s)] for s in seeds) / len(seeds) for n in {n for n, _ in h}
+            if all((n, s) in h for s in seeds)}
+    adopted = max((n for n in mean if mean[n] >= mean["course"] + 0.02), key=mean.get, default="course")
+    best = max(seeds, key=lambda s: h[(adopted, s)])
+    out = {"adopted": adopted, "best_seed": best, "mean_h": {n: round(v, 4) for n, v in sorted(mean.items())}}
+    old = json.loads(OUT.read_text()).get("strength", {}) if OUT.is_file() else {}
+    kept = [r["h"] for r in old.get("rows", []) if abs(r["strength"] - course_w) < 1e-9]
+    if kept:  # the packaged checkpoint, scored on the same val pairs by the strength section
+        out["packaged_h"] = kept[0]
+        out["keep_packaged"] = bool(kept[0] >= h[(adopted, best)])
+    return out
 
 
 def main(argv=None) -> int:

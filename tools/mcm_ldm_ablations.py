@@ -9,7 +9,9 @@ Variants: full (short run, the reference for the switches), no_remover (use_remo
 λ ∈ {0, 1, 2.5, 5} (B's λ claim, on the benchmark pairs); choose: the packaged model at λ ∈ VAL_SCALES on
 200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H) — and then, at that λ,
 at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the fewest steps whose val H is within STEPS_TOLERANCE
-of the most steps'; fewer steps are proportionally faster), stored as the section "choose". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+of the most steps'; fewer steps are proportionally faster), stored as the section "choose"; seeds: the course recipe trained again with other seeds (`--seeds 1,2`), each
+scored beside the packaged model (seed 0) on the same 200 val pairs at the course λ and steps — how the packaged
+seed is chosen (SEED_RULE), stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
 one name the commit that stored them.
 """
@@ -30,9 +32,10 @@ VARIANTS = {"full": {}, "no_remover": {"use_remover": False}, "no_traj": {"use_t
 LABELS = {"full": "full (short run)", "no_remover": "w/o StyleRemover", "no_traj": "w/o trajectory",
           "scratch_style": "style extractor from scratch"}
 OUT = DATA_DIR / "04_ablations.json"
-VAL_SCALES = (1.5, 2.0, 2.5, 3.0)
+VAL_SCALES = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0)
 VAL_STEPS = (20, 30, 40, 50)
 STEPS_TOLERANCE = 0.01
+SEED_RULE = "package the seed with the highest H on 200 val pairs at the course λ and DDIM steps"
 METRICS = ("cra", "sra", "h", "tsi", "fsf", "fmd")
 
 
@@ -41,7 +44,8 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=3000)
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep",
-                    help="comma-separated: full, no_remover, no_traj, scratch_style, sweep, choose")
+                    help="comma-separated: full, no_remover, no_traj, scratch_style, sweep, choose, seeds")
+    ap.add_argument("--seeds", default="1,2", help="seeds section: the seeds to train besides the packaged one")
     ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")
     args = ap.parse_args(argv)
     from mslib.checkpoints import checkpoint_digest
@@ -102,8 +106,11 @@ def main(argv=None) -> int:
                                                    f"{max(VAL_STEPS)} steps' (at the chosen λ)",
                                      "val_pairs": 200, "checkpoint": checkpoint_digest("mcm_ldm"),
                                      "command": command, "commit": commit}})
-        if todo == ["choose"]:
-            return 0
+    if "seeds" in todo:
+        update_json(OUT, {"seeds": seed_rows(P, paths, [int(x) for x in args.seeds.split(",")], Path(args.workdir),
+                                             ev, command, commit)})
+    if set(todo) <= {"choose", "seeds"}:
+        return 0
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
     rows = {**{r["key"]: r for r in old}, **rows}
     order = list(VARIANTS) + [f"lambda_{x}" for x in (0.0, 1.0, 2.5, 5.0)]
@@ -113,6 +120,34 @@ def main(argv=None) -> int:
                       "steps": args.steps,
                       "vae": {"arch": vcfg.arch, "latent_dim": vcfg.latent_dim, "latent_tokens": vcfg.latent_tokens}})
     return 0
+
+
+def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> dict:
+    """The packaged model and the course recipe at other seeds, scored on val pairs at the course λ and steps."""
+    from mslib.checkpoints import checkpoint_digest
+    from mslib.data.corpora import source_fingerprint
+    from mslib.evaluation.bench import positions
+    vpairs, corpus = val_pairs(200), source_fingerprint()
+
+    def val_h(tr, seed, **extra):
+        r = score_outputs([positions(tr(c["features"], s["features"])) for c, s in vpairs], vpairs, ev)
+        row = {"seed": seed, **{k: round(r[k], 4) for k in METRICS}, "corpus": corpus, "commit": commit, **extra}
+        print(json.dumps(row), flush=True)
+        return row
+    packaged = P.load_mcm_ldm()
+    rows = {0: val_h(packaged, 0, checkpoint=checkpoint_digest("mcm_ldm"))}
+    prepared = P.prepare(paths["content"], paths["style"], windows=True) if seeds else None
+    for seed in seeds:
+        out = workdir / f"seed{seed}.pt"
+        summary = P.run("course", paths["content"], paths["style"], seed=seed, out=out, progress=False,
+                        prepared=prepared)
+        rows[seed] = val_h(P.load_mcm_ldm(out), seed, train_seconds=summary["seconds"])
+    old = json.loads(OUT.read_text()).get("seeds", {}).get("rows", []) if OUT.is_file() else []
+    rows = {**{r["seed"]: r for r in old if r.get("corpus") == corpus}, **rows}  # parallel runs merge
+    ordered = [rows[k] for k in sorted(rows)]
+    return {"rows": ordered, "rule": SEED_RULE, "best_seed": max(ordered, key=lambda r: r["h"])["seed"],
+            "scale": packaged.model.cfg.cfg_scale, "ddim_steps": packaged.model.cfg.ddim_steps, "val_pairs": 200,
+            "command": command}
 
 
 if __name__ == "__main__":

@@ -180,12 +180,13 @@ _ = fig
 
 # %% [markdown]
 # ## 4. The course checkpoint
-# The packaged model was trained by `python -m mslib train adain --preset course --seed 0` (some
+# The packaged model was trained by `python -m mslib train adain --preset course --seed 1` (some
 # minutes on one CPU core: the autoencoder steps, then the decoder steps), the same command as the
-# fallback below. The course preset counts the content path twice in A Eq. 5 ($\lambda_{content} = 2$):
-# `tools/adain_variants.py --only recipes` trained that recipe and the plain one on two seeds each and
-# scored them on val pairs (appendix 08 tables the search); the recipe and the seed were chosen there, by a rule written
-# down before the last run was scored, never on the benchmark's test pairs. Its history travels with it:
+# fallback below. The course preset counts the content path twice in A Eq. 5 ($\lambda_{content} = 2$),
+# a recipe `tools/adain_variants.py --only recipes` chose over the plain weights on val pairs; the same
+# tool then trained the course recipe again on four seeds and kept the packaged model, whose val H beat
+# all four (appendix 08 shows the spread), by a rule written down before any run was scored — never on the
+# benchmark's test pairs. Its history travels with it:
 # the final validation content loss is no higher than the training one (their ratio is printed below), so
 # the model reconstructs unseen clips at least as well as seen ones.
 
@@ -193,7 +194,7 @@ _ = fig
 if course_path("adain").is_file():
     model = A.load_adain()
 else:  # no packaged checkpoint: train it now (a few minutes)
-    model, _ = A.train_adain("course", paths["content"], paths["style"], seed=0, out=course_path("adain"))
+    model, _ = A.train_adain("course", paths["content"], paths["style"], seed=1, out=course_path("adain"))
     model = A.load_adain()
 from mslib.checkpoints import read_checkpoint
 hist = read_checkpoint(course_path("adain"), "adain")["extra"]["history"]

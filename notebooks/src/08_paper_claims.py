@@ -244,9 +244,12 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
-# Here is the gist of each search, as stored. The two recipe searches (A's and C's) train many models and were
-# not re-run when the built-in corpora were last refitted: their rows name the commit, and so the corpora,
-# they were measured on; the packaged checkpoints were retrained with the recipes they chose.
+# Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
+# were not re-run when the built-in corpora were last refitted: their rows name the commit, and so the
+# corpora, they were measured on; the packaged checkpoints were retrained with the recipes they chose. A's
+# and B's seed searches were run on the current corpora. Read them as a lesson in noise: the same recipe,
+# trained again with another seed, lands a few hundredths of H higher or lower on the same 200 val pairs —
+# as large as many of the differences between recipes and claims in this appendix.
 
 # %%
 av = load_findings("02_adain_variants")
@@ -257,6 +260,17 @@ for r in av["variants"]["rows"]:
     best_var[r["variant"]] = max(best_var.get(r["variant"], 0.0), r["h"])
 for k, v in best_var.items():
     print(f"  {k:<16} {v:.3f}")
+ar = av["recipes"]
+print(f"\nA stage 1, the course recipe at other seeds (tools/adain_variants.py --only recipes; val H at the course "
+      f"w = {ar['course_strength']:g}):")
+print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in ar["rows"]
+                       if r["recipe"] == "course" and r["strength"] == ar["course_strength"])
+      + f"  | packaged {ar['packaged_h']:.3f} ({'kept' if ar['keep_packaged'] else 'replaced'})")
+bs = load_findings("04_ablations")["seeds"]
+print(f"B, the course recipe at other seeds (tools/mcm_ldm_ablations.py --only seeds; val H at λ = {bs['scale']:g}, "
+      f"{bs['ddim_steps']} DDIM steps):")
+print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" + (" (packaged)" if "checkpoint" in r else "")
+                       for r in bs["rows"]) + f"  | best: seed {bs['best_seed']}")
 rec = load_findings("03_contrastive_recipes")
 print(f"\nC, the course recipe's candidates (tools/contrastive_findings.py val; H on {rec['val_pairs']} val pairs, "
       "older corpora — each row names its commit):")

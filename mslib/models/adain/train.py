@@ -9,7 +9,7 @@ from torch.utils.data import Dataset, TensorDataset
 
 from ...checkpoints import course_path
 from ...data.datasets import ContentClips, StyleClips
-from ...training import TrainConfig, fit, pretrain_then_freeze, run_summary
+from ...training import TrainConfig, fit, pretrain_then_freeze, run_summary, seed_everything
 from .dsdn import DSDN, DsdnConfig
 from .model import AdainConfig, AdainTransfer
 from .transfer import load_adain
@@ -58,6 +58,7 @@ def train_adain(preset: str, content, style, seed: int = 0, out=None, device="cp
     cfg = config or AdainConfig.preset(preset)
     train = TransferPairs(content, style, "train", cfg.clip_frames, seed)
     val = TransferPairs(content, style, "val", cfg.clip_frames, seed, random_style=False)
+    seed_everything(seed)  # the initial weights too: a process's own torch seed differs from run to run
     model = AdainTransfer(cfg, train.content.mean, train.content.std)
     # 1: E (and E_s) with the decoder, as an autoencoder; 2: the encoders frozen, the decoder on A Eq. 5
     tcfg = pretrain_then_freeze(model, train, tcfg, cfg.pretrain_steps,
@@ -103,6 +104,7 @@ def train_dsdn(preset: str, content, style, seed: int = 0, out=None, device="cpu
     stage1 = stage1 or load_adain(device="cpu")
     if data is None:
         data = tuple(neutral_pairs(stage1, content, style, split, cfg.clip_frames, seed) for split in ("train", "val"))
+    seed_everything(seed)  # the initial weights too
     model = DSDN(cfg, stage1.mean.cpu(), stage1.std.cpu())
     history = fit(model, TensorDataset(*data[0]), tcfg, TensorDataset(*data[1]), model_name="dsdn", out=out,
                   resume=resume, device=device, progress=progress)

@@ -74,6 +74,7 @@ def train_style_model(preset: str, content, style, seed: int = 0, out=None, devi
     """Train the style encoder and its prototypes (or a classifier head) on the style corpus; (model, history)."""
     cfg, train = style_train_config(preset, seed, steps, head=head, **overrides)
     norm = Normalizer.load(content)  # the content corpus statistics, shared with the motion VAE
+    torch.manual_seed(seed)  # the encoder's initial weights (the banks take `seed` themselves)
     model = PrototypeStyleModel(cfg, seed=seed)
     model.config["normalizer"] = "content"
     data = {s: NormalizedClips(StyleClips(style, s, normalize=False, joints=False), norm.mean, norm.std)

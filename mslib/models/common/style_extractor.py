@@ -21,7 +21,7 @@ from torch.nn import functional as Fn
 from ...checkpoints import course_path, load_state, read_checkpoint
 from ...data.datasets import StyleClips
 from ...motion.features import N_FEATURES
-from ...training import TrainConfig, fit, run_summary
+from ...training import TrainConfig, fit, run_summary, seed_everything
 from .config import Config
 from .layers import PositionalEncoding, transformer_encoder
 from .text import TextConfig, TextEncoder, Tokenizer
@@ -160,6 +160,7 @@ def run(preset, content, style, seed=0, out=None, device="cpu", steps=None, resu
     mean, std = stats.mean, stats.std
     sets = {s: _Captioned(StyleClips(style, s, normalize=False, joints=False), mean, std) for s in ("train", "val")}
     vocab = Tokenizer.from_captions([r["caption"] for r in sets["train"].base.rows]).vocab
+    seed_everything(seed)  # the initial weights too: a process's own torch seed differs from run to run
     model = CLIPPair(cfg, vocab)
     tc = TrainConfig(steps=cfg.steps, batch_size=cfg.batch_size, lr=cfg.lr, weight_decay=0.01,
                      warmup_steps=min(50, cfg.steps // 10), val_every=max(1, cfg.steps // 4), seed=seed)

@@ -14,7 +14,7 @@ from torch.utils.data import Dataset
 from ...checkpoints import course_path
 from ...data.datasets import ContentClips, StyleClips
 from ...motion.features import TRAJECTORY_DIMS
-from ...training import TrainConfig, fit, run_summary
+from ...training import TrainConfig, fit, run_summary, seed_everything
 from ..common import style_extractor as SE
 from ..common.layers import pad_batch
 from ..common.vae import MotionVAE, load_vae
@@ -96,6 +96,7 @@ def train_mcm(cfg: MCMConfig, train: dict, val: dict | None, vae: MotionVAE, sty
               device="cpu", resume=None, progress=True) -> tuple:
     """Fit a denoiser on prepared tensors (build_tensors); returns (model, history)."""
     style_dim = style_cfg["out_dim"]
+    seed_everything(seed)  # the initial weights too: a process's own torch seed differs from run to run
     model = MCMLDM(cfg, vae.cfg.latent_tokens, vae.cfg.latent_dim, style_dim, style_cfg)
     tc = TrainConfig(steps=cfg.steps, batch_size=cfg.batch_size, lr=cfg.lr, warmup_steps=min(200, cfg.steps // 10),
                      val_every=max(1, cfg.steps // 5), seed=seed)
