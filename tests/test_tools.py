@@ -134,3 +134,53 @@ def test_notebook_shape_counts_cells_prose_and_points():
                 nbformat.v4.new_markdown_cell("four five")]
     shape = notebook_shape(nb)
     assert shape == {"cells": 4, "words": 5, "minutes": 5 / READING_WPM, "points": 2}
+
+
+def test_adain_recipe_rule_adopts_only_a_clear_winner_and_keeps_a_better_packaged_model():
+    from tools.adain_variants import apply_recipe_rule
+    rows = [{"recipe": n, "seed": s, "strength": w, "h": h} for n, s, w, h in (
+        ("course", 0, 0.55, 0.60), ("course", 1, 0.55, 0.64), ("course", 1, 0.5, 0.90),  # another w: ignored
+        ("wide", 0, 0.55, 0.61), ("wide", 1, 0.55, 0.64),  # mean +0.005: not a clear winner
+        ("content1", 0, 0.55, 0.70))]  # seed 1 missing: not comparable
+    got = apply_recipe_rule(rows, 0.55, packaged_h=0.63)
+    assert got["adopted"] == "course" and got["best_seed"] == 1 and got["keep_packaged"] is False
+    assert set(got["mean_h"]) == {"course", "wide"}
+    rows += [{"recipe": "content1", "seed": 1, "strength": 0.55, "h": 0.66}]  # mean 0.68 ≥ 0.62 + 0.02
+    got = apply_recipe_rule(rows, 0.55, packaged_h=0.75)
+    assert got["adopted"] == "content1" and got["best_seed"] == 0 and got["keep_packaged"] is True
+    assert apply_recipe_rule(rows, 0.6) == {}  # no course row at that strength
+
+
+# ---------------------------------------------------------------- tools/train_all.py
+def test_train_all_plans_every_checkpoint_after_what_it_reads():
+    from tools import train_all as T
+    order = T.plan(list(T.COURSE))
+    assert sorted(order) == sorted(T.COURSE)
+    for name in order:
+        assert all(order.index(dep) < order.index(name) for dep in T.COURSE[name][1]), name
+    assert T.plan(["dsdn", "adain"]) == ["adain", "dsdn"] and T.plan(["dsdn"]) == ["dsdn"]
+    with pytest.raises(ValueError, match="unknown checkpoints.*'adian'"):
+        T.plan(["adian"])
+
+
+def test_train_all_seeds_are_the_packaged_checkpoints():
+    """The table's seeds made the packaged checkpoints (a two-phase model stores its second phase's, +1)."""
+    from mslib.checkpoints import course_path, read_checkpoint
+    from tools import train_all as T
+    for name, (seed, _, _) in T.COURSE.items():
+        stored = read_checkpoint(course_path(name), name)["extra"]["train_config"]["seed"]
+        assert stored == seed + (name in T.TWO_PHASE), (name, stored, seed)
+
+
+def test_train_all_runs_a_job_only_after_the_ones_it_needs(tmp_path, monkeypatch):
+    from tools import train_all as T
+    monkeypatch.setattr(T, "POLL_SECONDS", 0.05)
+    monkeypatch.setattr(T, "command", lambda name: [sys.executable, "-c", f"import time; time.sleep(0.3); print('{name}')"])
+    done = T.run(["dsdn", "adain", "vae"], jobs=2, logs=tmp_path)
+    assert set(done) == {"adain", "dsdn", "vae"} and all(d["returncode"] == 0 for d in done.values())
+    assert done["dsdn"]["started"] >= done["adain"]["started"] + 0.3  # dsdn reads the trained adain
+    assert done["vae"]["started"] < done["adain"]["started"] + 0.3  # the second lane did not wait
+    assert (tmp_path / "dsdn.log").read_text().strip() == "dsdn"
+    monkeypatch.setattr(T, "command", lambda name: [sys.executable, "-c", "raise SystemExit(3)"])
+    done = T.run(["adain", "dsdn"], jobs=1, logs=tmp_path)
+    assert done == {"adain": {**done["adain"], "returncode": 3}}  # no job after a failure

@@ -13,6 +13,7 @@
     fit_styles             the generator's body and style means fitted to the Xia train split → mslib/data/fitted_styles.json
     build_notebooks        notebooks/src/*.py → executed notebooks/*.ipynb (the outputs nbval checks)
     release                the workbook as an nbgrader course (make release) and autograding (make grade)
+    train_all              every packaged checkpoint retrained with its course seed, in dependency order
     update_docs            the measured tables in README.md (built-in and real benchmarks) and notebooks/INSTRUCTORS.md
 
 Experiments live here, not in `mslib`: the library holds the papers and the course recipes, a tool

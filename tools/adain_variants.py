@@ -98,8 +98,9 @@ def strength(pairs, evaluator) -> dict:
 def recipes(paths, pairs, evaluator, names, seeds, keep_dir=None) -> dict:
     """Train each recipe at the course length for every seed and score it on the val pairs."""
     import json
-    from mslib.models import adain as A
+    from mslib.checkpoints import checkpoint_digest
     from mslib.data.corpora import source_fingerprint
+    from mslib.models import adain as A
     corpus, course_w = source_fingerprint(), A.AdainConfig.preset("course").style_strength
     rows = {}
     for name in names:
@@ -114,17 +115,20 @@ def recipes(paths, pairs, evaluator, names, seeds, keep_dir=None) -> dict:
                                          "train_seconds": round(time.time() - t0, 1), "commit": current_commit(),
                                          "corpus": corpus}
                 print(rows[(name, seed, w)], flush=True)
-    old = json.loads(OUT.read_text()).get("recipes", {}) if OUT.is_file() else {}  # re-read: runs in parallel merge
-    rows = {**{(r["recipe"], r["seed"], r["strength"]): r for r in old.get("rows", []) if r.get("corpus") == corpus},
-            **rows}
+    stored = json.loads(OUT.read_text()) if OUT.is_file() else {}  # re-read: runs in parallel merge
+    old = stored.get("recipes", {}).get("rows", [])
+    rows = {**{(r["recipe"], r["seed"], r["strength"]): r for r in old if r.get("corpus") == corpus}, **rows}
     rows = sorted(rows.values(), key=lambda r: (r["recipe"], r["seed"], r["strength"]))
+    strength = stored.get("strength", {})  # the packaged checkpoint on the same val pairs, if measured on it
+    packaged = [r["h"] for r in strength.get("rows", []) if abs(r["strength"] - course_w) < 1e-9
+                and strength.get("checkpoint") == checkpoint_digest("adain")]
     return {"rows": rows, "rule": RECIPE_RULE, "course_strength": course_w, "corpus": corpus,
-            **apply_recipe_rule(rows, course_w)}
+            **apply_recipe_rule(rows, course_w, packaged[0] if packaged else None)}
 
 
-def apply_recipe_rule(rows, course_w: float) -> dict:
-    import json
-    """RECIPE_RULE on the stored rows: the adopted recipe and the seed to package."""
+def apply_recipe_rule(rows, course_w: float, packaged_h: float | None = None) -> dict:
+    """RECIPE_RULE on the rows: the adopted recipe, its best seed, and whether the packaged checkpoint (val H
+    `packaged_h` at the course strength) stays."""
     h = {(r["recipe"], r["seed"]): r["h"] for r in rows if abs(r["strength"] - course_w) < 1e-9}
     seeds = sorted(s for n, s in h if n == "course")
     if not seeds:
@@ -134,11 +138,8 @@ def apply_recipe_rule(rows, course_w: float) -> dict:
     adopted = max((n for n in mean if mean[n] >= mean["course"] + 0.02), key=mean.get, default="course")
     best = max(seeds, key=lambda s: h[(adopted, s)])
     out = {"adopted": adopted, "best_seed": best, "mean_h": {n: round(v, 4) for n, v in sorted(mean.items())}}
-    old = json.loads(OUT.read_text()).get("strength", {}) if OUT.is_file() else {}
-    kept = [r["h"] for r in old.get("rows", []) if abs(r["strength"] - course_w) < 1e-9]
-    if kept:  # the packaged checkpoint, scored on the same val pairs by the strength section
-        out["packaged_h"] = kept[0]
-        out["keep_packaged"] = bool(kept[0] >= h[(adopted, best)])
+    if packaged_h is not None:
+        out.update(packaged_h=packaged_h, keep_packaged=bool(packaged_h >= h[(adopted, best)]))
     return out
 
 
