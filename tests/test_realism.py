@@ -158,10 +158,11 @@ def test_report_structure_save_and_plot(tiny):
     assert rb["classes"] == ["neutral", "old"] and rb["real_test_windows"]["chance"] == 50.0
     assert rb["builtin_test_windows"]["n"] > 0 and rb["C"] in R.C_CHOICES
     assert sum(map(sum, rb["builtin_test_windows"]["confusion"]["counts"])) == rb["builtin_test_windows"]["n"]
-    by_content = rb["builtin_test_by_content"]  # every built-in window counted once, under its content
-    assert sum(v["n"] for v in by_content.values()) == rb["builtin_test_windows"]["n"]
-    assert sum(v["n"] * v["accuracy"] for v in by_content.values()) / rb["builtin_test_windows"]["n"] == \
-        pytest.approx(rb["builtin_test_windows"]["accuracy"], abs=0.1)
+    for which in ("builtin", "real"):  # every window counted once, under its content
+        by_content, whole = rb[f"{which}_test_by_content"], rb[f"{which}_test_windows"]
+        assert sum(v["n"] for v in by_content.values()) == whole["n"]
+        assert sum(v["n"] * v["accuracy"] for v in by_content.values()) / whole["n"] == \
+            pytest.approx(whole["accuracy"], abs=0.1)
     assert br["real_test_takes"]["n"] == 4 and br["real_test_takes"]["chance"] == 12.5
     assert br["real_train_takes"]["n"] == 8 and 0 <= br["builtin_test_clips_accuracy"] <= 100
     text = R.format_report(report)

@@ -197,7 +197,7 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
                          f"got {sorted(set(y))}")
     clf, choice = fit_window_classifier(X, y, groups, seed)
     classes = list(clf.classes_)
-    Xt, yt, take_t, _, short_t = _windowed(test_clips, set(classes))
+    Xt, yt, take_t, content_t, short_t = _windowed(test_clips, set(classes))
     Xb, yb, _, content_b, short_b = _windowed(tqdm(builtin_test_clips, desc="built-in test windows",
                                                    disable=not progress), set(classes))
     import sklearn
@@ -206,7 +206,9 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
            "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "classes": classes,
            "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short}}
     if len(yt):
-        out["real_test_windows"] = {**scores(yt, clf.predict(Xt), classes), "takes_too_short": short_t}
+        pred_t = clf.predict(Xt)
+        out["real_test_windows"] = {**scores(yt, pred_t, classes), "takes_too_short": short_t}
+        out["real_test_by_content"] = by_content(yt, pred_t, content_t)
         proba = clf.predict_proba(Xt)
         takes = sorted(set(take_t))
         mean_p = np.stack([proba[take_t == t].mean(0) for t in takes])
@@ -216,10 +218,14 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
         out["builtin_test_windows"] = {**scores(yb, pred_b, classes), "takes_too_short": short_b}
         walk = np.array([is_walk(c) for c in content_b])
         out["builtin_test_walk_windows"] = scores(yb[walk], pred_b[walk], classes)
-        out["builtin_test_by_content"] = {str(c): {"n": int((content_b == c).sum()),
-                                                   "accuracy": _round(100 * np.mean(pred_b[content_b == c] == yb[content_b == c]))}
-                                          for c in sorted(set(content_b))}
+        out["builtin_test_by_content"] = by_content(yb, pred_b, content_b)
     return out
+
+
+def by_content(true, pred, content) -> dict:
+    """{content: {"n": windows, "accuracy": %}}: each window counted once, under its content."""
+    return {str(c): {"n": int((content == c).sum()), "accuracy": _round(100 * np.mean(pred[content == c] == true[content == c]))}
+            for c in sorted(set(content))}
 
 
 # ---------------------------------------------------------------- 3. built-in → real
@@ -340,14 +346,16 @@ def format_cross_scores(report: dict) -> str:
     """The two cross scores (real → built-in, built-in → real) with their per-style readings, as text."""
     rb, br = report["real_to_builtin"], report["builtin_to_real"]
     chance = rb.get("real_test_windows", {}).get("chance")
+    def contents(key):
+        return ["    by content: " + ", ".join(f"{c} {v['accuracy']:.0f} % of {v['n']}" for c, v in rb[key].items())
+                ] if rb.get(key) else []
     lines = [f"real → built-in: logistic regression (C={rb['C']}) fitted on {rb['train']['windows']} real train "
-              f"windows of {rb['window_frames']} frames; chance {chance} %",
-              f"  real test windows {_score(rb.get('real_test_windows'))}, takes {_score(rb.get('real_test_takes'))}",
-              f"  built-in style test windows {_score(rb.get('builtin_test_windows'))} "
-              f"(walks {_score(rb.get('builtin_test_walk_windows'))})"]
-    if rb.get("builtin_test_by_content"):
-        lines.append("    by content: " + ", ".join(f"{c} {v['accuracy']:.0f} % of {v['n']}"
-                                                    for c, v in rb["builtin_test_by_content"].items()))
+             f"windows of {rb['window_frames']} frames; chance {chance} %",
+             f"  real test windows {_score(rb.get('real_test_windows'))}, takes {_score(rb.get('real_test_takes'))}",
+             *contents("real_test_by_content"),
+             f"  built-in style test windows {_score(rb.get('builtin_test_windows'))} "
+             f"(walks {_score(rb.get('builtin_test_walk_windows'))})",
+             *contents("builtin_test_by_content")]
     for p in (rb.get("builtin_test_windows") or {}).get("per_style", []):
         lines.append(f"    {p['style']:<10} {p['accuracy']:5.0f} %  read as {p['read_as']} ({p['read_as_share']:.0f} %)")
     lines += [f"built-in → real: packaged style evaluator ({br.get('builtin_test_clips_accuracy')} % on built-in test clips)",

@@ -216,11 +216,14 @@ print(format_cross_scores(realism))
 # recognises real test windows far more often than built-in ones, and it mistakes several built-in
 # styles for another. The cue means can agree while the motion still gives itself away in what the
 # cues do not measure — how smooth it is (jerk), and how the cues move together within a step. The
-# *by content* line says where: the built-in walks and runs are read right far more often than its
-# jumps, punches and kicks. Their fits had little to aim at — real capture has only a handful of
-# windows of each action per style, and one or none for some (a proud punch, a neutral one) — and
-# the generator's actions are simpler than an actor's: one arm punches where a real actor's whole
-# trunk follows, and a real jump travels where most built-in jumps stay in place.
+# two *by content* lines say where. The judge reads the few real test windows of jumps, punches and
+# kicks mostly right (mind how few there are), so it did learn what style looks like in an action;
+# but it reads the built-in walks and runs right far more often than the built-in jumps, punches and
+# kicks. The gap is in the generator's actions: their fits had little to aim at — real capture has
+# only a handful of windows of each action per style, and one or none for some (a proud punch, a
+# neutral one) — and they are simpler than an actor's. A real actor's trunk and pelvis move all
+# through a punch or a kick, and a real jump goes higher and often travels; a built-in actor moves
+# its limbs and keeps the rest of the body nearly still.
 
 # %% [markdown]
 # ## 7. How the benchmark will measure style transfer
