@@ -175,11 +175,10 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 # - the generator's numbers are **fitted** to the Xia *train* takes (`tools/fit_styles.py`, stored in
 #   `mslib/data/fitted_styles.json`): the trunk's rest geometry, and every style's posture, arm
 #   carriage and swing, stride, knee lift, cadence, bounce, sway and tempo, so that its motions are
-#   described like the real style's — by the cues below and by where they fall among the real styles;
-#   the three sub-styles of each style are thirds of its real walks, split along the axis on which
-#   they differ most; then each style's runs, jumps, punches and kicks are fitted on their own, where
-#   the real takes have them (a real depressed actor walks slowly but punches nearly as fast as a
-#   neutral one, so an action cannot simply borrow the walk's tempo);
+#   described like the real style's — by the cues below and by where they fall among the real styles.
+#   The three sub-styles of each style are thirds of its real walks, split along the axis on which
+#   they differ most. Each style's runs, jumps, punches and kicks are then fitted on their own, where
+#   the real takes have them: an actor's action need not keep the tempo of the same actor's walk;
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
@@ -214,14 +213,16 @@ print(format_cross_scores(realism))
 # one leans forward too, if less far; the real proud walker swings his arms widest. The cross scores
 # are the hard test, and the built-in styles do not pass it yet: the judge trained on real takes
 # recognises real test windows far more often than built-in ones, and it mistakes several built-in
-# styles for another. The cue means can agree while the motion still gives itself away in what the
-# cues do not measure — how smooth it is (jerk), and how the cues move together within a step. The
+# styles for other styles. The other direction fails too: the evaluator that knows the built-in
+# clips recognises well under half of the real test takes. Where the posture cues agree, the motion
+# still gives itself away in its jerk (see that panel: the built-in walks are the jerkier) and in
+# what no cue measures, such as how the cues move together within a step. The
 # two *by content* lines say where. The judge reads the few real test windows of jumps, punches and
 # kicks mostly right (mind how few there are), so it did learn what style looks like in an action;
 # but it reads the built-in walks and runs right far more often than the built-in jumps, punches and
 # kicks. The gap is in the generator's actions: their fits had little to aim at — real capture has
-# only a handful of windows of each action per style, and one or none for some (a proud punch, a
-# neutral one) — and they are simpler than an actor's. A real actor's trunk and pelvis move all
+# only a handful of windows of each action per style, and hardly any for some — and they are simpler
+# than an actor's. A real actor's trunk and pelvis move all
 # through a punch or a kick, and a real jump goes higher and often travels; a built-in actor moves
 # its limbs and keeps the rest of the body nearly still.
 

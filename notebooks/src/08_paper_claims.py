@@ -245,11 +245,12 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
-# were not re-run when the built-in corpora were last refitted: their rows name the commit, and so the
-# corpora, they were measured on; the packaged checkpoints were retrained with the recipes they chose. A's
-# and B's seed searches were run on the current corpora. Read them as a lesson in noise: the same recipe,
-# trained again with another seed, lands a few hundredths of H higher or lower on the same 200 val pairs —
-# as large as many of the differences between recipes and claims in this appendix.
+# were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
+# checkpoints were retrained on the current corpora with the recipes they chose. A's and B's seed searches
+# ran on the current corpora. Read them as a lesson in noise: the same recipe, trained again with another
+# seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
+# recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
+# sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
 
 # %%
 av = load_findings("02_adain_variants")
