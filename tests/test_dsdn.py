@@ -150,20 +150,3 @@ def test_stage_two_smooths_the_transfers_and_slides_the_feet_less():
     jit = {m: np.mean([jitter(o) for o in v]) for m, v in outs.items()}
     fsf = {m: np.mean([foot_slide_fsf(o) for o in v]) for m, v in outs.items()}
     assert jit["adain+dsdn"] < jit["adain"] and fsf["adain+dsdn"] < fsf["adain"]
-
-
-def test_training_is_repeatable_whatever_the_global_seed():
-    """The run's seed fixes the initial weights too (a process starts with its own random torch seed)."""
-    g = torch.Generator().manual_seed(0)
-    clean = torch.randn(8, 16, 263, generator=g).cumsum(1) * 0.1
-    data = ((clean[:6] + 0.1, clean[:6]), (clean[6:] + 0.1, clean[6:]))
-    cfg = D.DsdnConfig.preset("course", static_channels=(16, 32), lstm_hidden=8, regressor_hidden=8, gate_hidden=8,
-                              clip_frames=16)
-    stage1 = A.AdainTransfer(A.AdainConfig(hidden=8, content_blocks=1, decoder_blocks=1, heads=2))
-    weights = []
-    for noise in (1, 2):
-        torch.manual_seed(noise)  # another process, another starting seed
-        model, _ = D.train_dsdn("course", None, None, seed=3, progress=False, config=cfg, stage1=stage1, data=data,
-                                train_config=TrainConfig(steps=3, batch_size=4, val_every=3, val_batches=1))
-        weights.append(torch.cat([p.detach().flatten() for p in model.parameters()]))
-    assert torch.equal(*weights)

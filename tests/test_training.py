@@ -178,30 +178,53 @@ def test_run_summary_heads_every_train_command():
     assert run_summary("toy", "x.pt", {"step": [], "seconds": 0.04, "stopped": "budget"})["steps"] == 0
 
 
-def _train_twice(train):
-    """The weights of `train()` run after two different global torch seeds (as two processes would start)."""
-    weights = []
-    for noise in (1, 2):
-        torch.manual_seed(noise)
-        weights.append(torch.cat([p.detach().flatten() for p in train().parameters()]))
-    return weights
-
-
-@pytest.mark.parametrize("trainer", ["style_extractor", "clusterstyle_style"])
-def test_a_run_seed_fixes_the_initial_weights(trainer, tmp_path):
-    """Two runs with one seed agree whatever torch's own seed was (adain, dsdn and mcm_ldm: their own tests)."""
+def _trainer(name, tmp_path):
+    """A tiny run of one trainer with seed 3, returning the trained module."""
     from mslib.data.corpora import load_builtin
     p = load_builtin(progress=False)
-    if trainer == "style_extractor":
+    if name == "adain":
+        from mslib.models import adain as A
+        cfg = A.AdainConfig.preset("course", hidden=16, content_blocks=1, decoder_blocks=1, heads=2, clip_frames=24,
+                                   pretrain_steps=2)
+        return lambda: A.train_adain("course", p["content"], p["style"], seed=3, progress=False, config=cfg,
+                                     train_config=TrainConfig(steps=2, batch_size=4, val_every=2, val_batches=1))[0]
+    if name == "dsdn":
+        from mslib.models import adain as A
+        g = torch.Generator().manual_seed(0)
+        clean = torch.randn(8, 16, 263, generator=g).cumsum(1) * 0.1
+        data = ((clean[:6] + 0.1, clean[:6]), (clean[6:] + 0.1, clean[6:]))
+        cfg = A.DsdnConfig.preset("course", static_channels=(16, 32), lstm_hidden=8, regressor_hidden=8,
+                                  gate_hidden=8, clip_frames=16)
+        stage1 = A.AdainTransfer(A.AdainConfig(hidden=8, content_blocks=1, decoder_blocks=1, heads=2))
+        return lambda: A.train_dsdn("course", None, None, seed=3, progress=False, config=cfg, stage1=stage1, data=data,
+                                    train_config=TrainConfig(steps=3, batch_size=4, val_every=3, val_batches=1))[0]
+    if name == "mcm_ldm":
+        from types import SimpleNamespace
+        from mslib.models import mcm_ldm as M
+        g = torch.Generator().manual_seed(0)
+        tens = {"z0": torch.randn(8, 3, 8, generator=g), "zc": torch.randn(8, 3, 8, generator=g),
+                "style": torch.randn(8, 6, generator=g), "traj": torch.randn(8, 24, 3, generator=g),
+                "length": torch.full((8,), 24)}
+        cfg = M.MCMConfig(width=32, heads=2, blocks=2, mlp_ratio=2, traj_layers=1, traj_down=4, steps=3, batch_size=4)
+        vae = SimpleNamespace(cfg=SimpleNamespace(latent_tokens=3, latent_dim=8))
+        style_cfg = {"dim": 16, "out_dim": 6, "heads": 2, "layers": 1}
+        return lambda: M.train_mcm(cfg, tens, None, vae, style_cfg, seed=3, progress=False)[0]
+    if name == "style_extractor":
         from mslib.models.common import style_extractor as SE
 
         def train():
             SE.run("course", p["content"], p["style"], seed=3, out=tmp_path / "se.pt", steps=2, progress=False)
             return SE.load_style_extractor(tmp_path / "se.pt")
-    else:
-        from mslib.models.clusterstyle.train import train_style_model
+        return train
+    from mslib.models.clusterstyle.train import train_style_model
+    return lambda: train_style_model("course", p["content"], p["style"], seed=3, out=None, steps=2, progress=False)[0]
 
-        def train():
-            return train_style_model("course", p["content"], p["style"], seed=3, out=None, steps=2, progress=False)[0]
-    first, second = _train_twice(train)
-    assert torch.equal(first, second)
+
+@pytest.mark.parametrize("trainer", ["adain", "dsdn", "mcm_ldm", "style_extractor", "clusterstyle_style"])
+def test_a_run_seed_fixes_the_initial_weights(trainer, tmp_path):
+    """Two runs with one seed agree whatever torch's own seed was (a process starts with a random one)."""
+    train, weights = _trainer(trainer, tmp_path), []
+    for noise in (1, 2):
+        torch.manual_seed(noise)  # another process, another starting seed
+        weights.append(torch.cat([q.detach().flatten() for q in train().parameters()]))
+    assert torch.equal(*weights)

@@ -50,7 +50,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     from mslib.checkpoints import checkpoint_digest
     from mslib.data.corpora import load_builtin
-    from mslib.evaluation.bench import Evaluator, load_pairs, positions
+    from mslib.evaluation.bench import Evaluator, load_pairs
     from mslib.models import mcm_ldm as P
     from mslib.models.common.vae import load_vae
 
@@ -65,8 +65,7 @@ def main(argv=None) -> int:
     commit = current_commit()
 
     def score(tr, scale=None):
-        r = score_outputs([positions(tr(c["features"], s["features"], scale=scale)) for c, s in pairs], pairs, ev)
-        return {k: round(r[k], 4) for k in METRICS}
+        return scored(tr, pairs, ev, scale=scale)
 
     for key in (k for k in VARIANTS if k in todo):
         if prepared is None:
@@ -91,8 +90,7 @@ def main(argv=None) -> int:
         tr, vpairs = P.load_mcm_ldm(), val_pairs(200)
 
         def val_row(**knob):
-            outs = [positions(tr(c["features"], s["features"], **knob)) for c, s in vpairs]
-            row = {**knob, **{k: round(v, 4) for k, v in score_outputs(outs, vpairs, ev).items() if k in METRICS}}
+            row = {**knob, **scored(tr, vpairs, ev, **knob)}
             print(json.dumps(row), flush=True)
             return row
         val = [val_row(scale=lam, steps=max(VAL_STEPS)) for lam in VAL_SCALES]
@@ -122,16 +120,21 @@ def main(argv=None) -> int:
     return 0
 
 
+def scored(tr, pairs, ev, **knob) -> dict:
+    """METRICS (rounded) of a transfer function's outputs on (content, style) pairs; `knob`: scale, steps."""
+    from mslib.evaluation.bench import positions
+    r = score_outputs([positions(tr(c["features"], s["features"], **knob)) for c, s in pairs], pairs, ev)
+    return {k: round(r[k], 4) for k in METRICS}
+
+
 def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> dict:
     """The packaged model and the course recipe at other seeds, scored on val pairs at the course λ and steps."""
     from mslib.checkpoints import checkpoint_digest
     from mslib.data.corpora import source_fingerprint
-    from mslib.evaluation.bench import positions
     vpairs, corpus = val_pairs(200), source_fingerprint()
 
     def val_h(tr, seed, **extra):
-        r = score_outputs([positions(tr(c["features"], s["features"])) for c, s in vpairs], vpairs, ev)
-        row = {"seed": seed, **{k: round(r[k], 4) for k in METRICS}, "corpus": corpus, "commit": commit, **extra}
+        row = {"seed": seed, **scored(tr, vpairs, ev), "corpus": corpus, "commit": commit, **extra}
         print(json.dumps(row), flush=True)
         return row
     packaged = P.load_mcm_ldm()
