@@ -151,6 +151,31 @@ def test_adain_recipe_rule_adopts_only_a_clear_winner_and_keeps_a_better_package
     assert apply_recipe_rule(rows, 0.6) == {}  # no course row at that strength
 
 
+# ---------------------------------------------------------------- tools/realism_gap.py
+def test_realism_gap_moves_each_cell_to_the_real_mean_and_only_what_it_names():
+    import numpy as np
+    from tools.realism_gap import GROUPS, columns, shifted
+    assert list(columns(["vel_mean"])) == list(range(66, 132)) and len(columns(GROUPS)) == 396
+    rng = np.random.default_rng(0)
+    Xb, X = rng.normal(size=(12, 396)), rng.normal(3.0, 1.0, size=(9, 396))
+    yb, cb = np.array(list("aabb") * 3), np.array(["jump"] * 8 + ["kick"] * 4)
+    y, c = np.array(list("aaabbbaaa")), np.array(["jump"] * 6 + ["None"] * 3)  # no real kick: kicks stay
+    cols = columns(["pos_std"])
+    moved = shifted(Xb, yb, cb, X, y, c, cols, 1.0, "cell")
+    for s in "ab":
+        mb, mr = (yb == s) & (cb == "jump"), (y == s) & (c == "jump")
+        assert np.allclose(moved[mb][:, cols].mean(0), X[mr][:, cols].mean(0))  # the real cell's mean
+        assert np.allclose(moved[mb] - moved[mb].mean(0), Xb[mb] - Xb[mb].mean(0))  # its own spread kept
+    other = np.setdiff1d(np.arange(396), cols)
+    assert np.array_equal(moved[:, other], Xb[:, other]) and np.array_equal(moved[cb == "kick"], Xb[cb == "kick"])
+    half = shifted(Xb, yb, cb, X, y, c, cols, 0.5, "cell")
+    assert np.allclose(half, (Xb + moved) / 2)
+    free = shifted(Xb, yb, cb, X, y, c, cols, 1.0, "content")  # one shift for both styles
+    d = free - Xb
+    assert np.allclose(d[cb == "jump"], d[cb == "jump"][0]) and np.allclose(
+        free[cb == "jump"][:, cols].mean(0), X[c == "jump"][:, cols].mean(0))
+
+
 # ---------------------------------------------------------------- tools/train_all.py
 def test_train_all_plans_every_checkpoint_after_what_it_reads():
     from tools import train_all as T

@@ -32,7 +32,7 @@ COURSE = {
     "clusterstyle_t2m": (0, ("vae",), 9),
     "clusterstyle": (0, ("clusterstyle_t2m", "clusterstyle_style", "vae"), 10),
     "contrastive": (2, (), 24),
-    "adain": (1, (), 5),
+    "adain": (2, (), 5),
     "dsdn": (0, ("adain",), 2),
     "mcm_ldm": (0, ("vae", "style_extractor"), 11),
 }

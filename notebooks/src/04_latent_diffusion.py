@@ -418,11 +418,11 @@ for claim, result in claims.items():
     print(f"{claim:<42} {result}")
 
 # %% [markdown]
-# Four of B's five directions show up here. The one that does not: a style extractor trained from scratch by
-# the diffusion loss alone gives the short run *more* style (SRA), not less, and pays for it in content (CRA) —
-# with nothing pulling its codes toward style captions, it is free to carry whatever helps reconstruction,
-# content included. Its H is still below the full run's (the H column), so by H, the score the appendix
-# (notebook 08) checks, every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
+# Read the verdict lines against B's five directions. The one to watch is the style extractor trained from
+# scratch by the diffusion loss alone: with nothing pulling its codes toward style captions, it is free to
+# carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
+# run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
+# every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
 # to 5, SRA gains only a few points while CRA keeps falling, so H drops — and H, which needs both, picked the
 # course preset's λ below B's 2.5 on validation pairs.
 

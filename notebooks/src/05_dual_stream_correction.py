@@ -206,7 +206,7 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ until it levels off, while SRA first rises and then
+# table says which). Read the columns: CRA rises with κ up to the middle of the range and then stays about level, while SRA first rises and then
 # falls — a light correction makes the style easier to read, a full one smooths part of it away. Jitter falls
 # all the way; foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
 
@@ -237,9 +237,9 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
 # raises both CRA and SRA, so H rises too: a light correction makes the content *and* the style easier to
-# read. Pushed harder, it leans towards the content it was trained to pull neutral transfers back to: in the
-# table of section 8, from the course κ to κ = 1 CRA gains a little while SRA falls more, and H drops — though
-# even at full strength H stays above stage 1 alone (κ = 0).
+# read. Pushed harder, it smooths the style away without gaining content: in the table of section 8, from the
+# course κ to κ = 1 SRA falls while CRA stays about level, and H drops — though even at full strength H stays
+# above stage 1 alone (κ = 0).
 
 # %% [markdown]
 # ## Exercises

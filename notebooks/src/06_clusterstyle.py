@@ -179,7 +179,7 @@ for c, s in enumerate(STYLES):
 
 # %% [markdown]
 # Read the table row by row: a clean discovery puts each row's clips in one column, a different column
-# per row. No style does that here. A few rows lean towards one column (neutral's arms-close, proud's
+# per row. No style does that here. A few rows lean towards one column (angry's and proud's
 # shoulders-down), but most spread over all three. The purity line says the same: on the training clips
 # the matching scores barely above shuffled labels (the test score is higher, on far fewer clips per
 # style). The clustering has no labels, and whatever varies most within a style's features (tempo,
@@ -405,8 +405,9 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
 
 # %% [markdown]
 # **D Table 3 is not confirmed here**: in these short runs the two heads give the adapter about the same style
-# (the SRA difference above is within two standard errors), and the clustering pays for its share in content
-# (CRA). What the prototypes do buy is §7's steering: the outputs land nearest the prototype used far more
+# (the SRA difference above is within two standard errors). The heads differ more in content (CRA), but one
+# short run per head cannot say which keeps more of it: retraining the same recipe with another seed moves a
+# score by as much (appendix 08 shows the seed spreads). What the prototypes do buy is §7's steering: the outputs land nearest the prototype used far more
 # often than chance, and on top of seed variation they add diversity in most transfer examples (the
 # "on top of" counts of §7).
 #

@@ -1,0 +1,114 @@
+"""Where the real → built-in gap lies: the realism judge on built-in windows moved part of the way to real ones.
+
+    python tools/realism_gap.py --real XIA_TRAIN_DIR [--out notebooks/data/00_realism_gap.json] [--force]
+
+XIA_TRAIN_DIR is a dataset folder made by data_prep from the Xia *train* split (the test grid is never read).
+The judge is the realism report's real → built-in classifier (mslib.evaluation.realism: a standardised logistic
+regression on the means and spreads over 16-frame windows of body-frame joint positions, velocities and
+accelerations, 6 groups × 66 features), trained on every real train window. Each row scores the built-in test
+windows after shifting some of their features by the gap between the real and the built-in mean:
+
+- per cell: every (style, content) cell of built-in windows by (real cell mean − built-in cell mean), where the
+  real train split has windows of that cell; the built-in spread within the cell is kept;
+- style-free: every content by (real content mean − built-in content mean), pooled over styles — the same
+  correction for every style, as a better "punch" or "jump" in general would give.
+
+This is a diagnosis, not a generator: the real means are those of the very windows the judge learned from, so a
+full per-cell shift is an upper bound of what matching means could do. It answers which feature groups a
+generator must get right per style to be read as real, and whether getting a content right for all styles at
+once would help.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+GROUPS = ("pos_mean", "vel_mean", "acc_mean", "pos_std", "vel_std", "acc_std")  # realism.window_features' order
+ROWS = (  # (label, groups shifted, share of the gap closed, per cell or style-free)
+    *((g, (g,), 1.0, "cell") for g in GROUPS),
+    ("posture + amplitude (pos_mean, pos_std)", ("pos_mean", "pos_std"), 1.0, "cell"),
+    ("+ vel_std, acc_std", ("pos_mean", "pos_std", "vel_std", "acc_std"), 1.0, "cell"),
+    ("all six groups", GROUPS, 1.0, "cell"),
+    ("all six groups, half-way", GROUPS, 0.5, "cell"),
+    ("all six groups, style-free", GROUPS, 1.0, "content"),
+)
+DEFAULT_OUT = "notebooks/data/00_realism_gap.json"
+
+
+def columns(groups) -> "np.ndarray":
+    """Feature indices (of the 396) of the named groups."""
+    import numpy as np
+    return np.concatenate([np.arange(66 * GROUPS.index(g), 66 * (GROUPS.index(g) + 1)) for g in groups])
+
+
+def shifted(Xb, yb, cb, X, y, c, cols, share: float, mode: str):
+    """Built-in features Xb with `cols` moved by `share` of the real − built-in mean gap, per cell or per content."""
+    import numpy as np
+    out = Xb.copy()
+    for k in np.unique(cb):
+        for s in (np.unique(yb) if mode == "cell" else [None]):
+            mb = (cb == k) if s is None else (cb == k) & (yb == s)
+            mr = (c == k) if s is None else (c == k) & (y == s)
+            if mr.any() and mb.any():
+                out[np.ix_(mb, cols)] += share * (X[mr][:, cols].mean(0) - Xb[mb][:, cols].mean(0))
+    return out
+
+
+def accuracy_by_content(pred, yb, cb) -> dict:
+    """Accuracy (%) per content and over all windows."""
+    import numpy as np
+    out = {k: round(100.0 * float(np.mean(pred[cb == k] == yb[cb == k])), 1) for k in sorted(set(cb))}
+    return {**out, "all": round(100.0 * float(np.mean(pred == yb)), 1)}
+
+
+def measure(real, progress: bool = True) -> dict:
+    """The table: the judge's accuracy on built-in test windows, as generated and with each shift of ROWS."""
+    import numpy as np
+    from mslib.data.corpora import load_builtin
+    from mslib.evaluation import realism as R
+    from tools.fit_styles import content_group, real_takes
+    real_takes(real, progress=False)  # refuses a folder made from the test grid
+    X, y, g, c, _ = R._windowed(R.read_clips(real, "--real"))
+    c = np.array([str(content_group(x)) for x in c])  # transitions ("None") train the judge, shift nothing
+    judge, C = R.fit_window_classifier(X, y, g)  # (model, its C and CV scores): the realism report's judge, on every real train window
+    builtin = load_builtin(progress=progress)["style"]
+    Xb, yb, _, cb, _ = R._windowed([(r, j) for r, j in R.read_clips(builtin, "--builtin") if r["split"] == "test"])
+    rows = [{"shift": "none (the built-in windows as generated)", **accuracy_by_content(judge.predict(Xb), yb, cb)}]
+    for label, groups, share, mode in ROWS:
+        moved = shifted(Xb, yb, cb, X, y, c, columns(groups), share, mode)
+        rows.append({"shift": label, "groups": list(groups), "share": share, "mode": mode,
+                     **accuracy_by_content(judge.predict(moved), yb, cb)})
+        if progress:
+            print(rows[-1], flush=True)
+    cells = {k: {s: int(((c == k) & (y == s)).sum()) for s in sorted(set(y))} for k in sorted(set(cb))}
+    return {"rows": rows, "judge": C, "real": {"folder": Path(real).name, "digest": R.folder_digest(real)},
+            "builtin": R.builtin_info(builtin), "real_windows_per_cell": cells}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--real", required=True, help="dataset folder of the Xia train split (made by data_prep.bvh)")
+    ap.add_argument("--out", default=DEFAULT_OUT, help=f"where the table goes (default {DEFAULT_OUT})")
+    ap.add_argument("--force", action="store_true", help="overwrite --out")
+    args = ap.parse_args(argv)
+    from mslib.fileio import check_writable
+    from tools.common import current_commit, update_json
+    out = check_writable(args.out, args.force, "--out")
+    t0 = time.time()
+    table = measure(args.real)
+    command = f"python tools/realism_gap.py --real {Path(args.real).name}"
+    update_json(out, {**table, "command": command, "commit": current_commit(), "seconds": round(time.time() - t0, 1)})
+    for r in table["rows"]:
+        print(f"{r['shift']:<44} " + "  ".join(f"{k} {v:5.1f}" for k, v in r.items() if k not in
+                                                 ("shift", "groups", "share", "mode")))
+    print(f"→ {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
