@@ -164,3 +164,6 @@ def test_the_tool_refuses_the_test_grid(tmp_path):
                                          encoding="utf-8")
     with pytest.raises(ValueError, match="test grid"):
         F.real_takes(tmp_path, progress=False)
+    from tools.realism_gap import measure  # the gap diagnosis refuses it too, before reading anything
+    with pytest.raises(ValueError, match="test grid"):
+        measure(tmp_path, progress=False)

@@ -101,12 +101,17 @@ def content_group(content) -> str | None:
     return next((g for g, ids in CONTENT_GROUPS.items() if number in ids), None)
 
 
-def real_takes(folder, progress=True):
-    """{style: {content group: [joints (T, 22, 3)]}} of every take of a dataset folder of the Xia train split."""
+def check_train_split(folder) -> None:
+    """Refuse a dataset folder made from the Xia test grid (it is for checking only)."""
     from mslib.data.dataset_folder import read_meta
-    from mslib.evaluation.realism import read_clips
     if "grid" in str(read_meta(folder).get("source", "")):
         raise ValueError(f"--real {folder}: was made from the Xia test grid; fit on the train split only")
+
+
+def real_takes(folder, progress=True):
+    """{style: {content group: [joints (T, 22, 3)]}} of every take of a dataset folder of the Xia train split."""
+    from mslib.evaluation.realism import read_clips
+    check_train_split(folder)
     out = {}
     for row, joints in read_clips(folder, "--real", progress=progress):  # every split: all of it is train
         out.setdefault(row["style"], {}).setdefault(content_group(row["content"]), []).append(joints)

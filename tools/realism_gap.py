@@ -71,8 +71,8 @@ def measure(real, progress: bool = True) -> dict:
     import numpy as np
     from mslib.data.corpora import load_builtin
     from mslib.evaluation import realism as R
-    from tools.fit_styles import content_group, real_takes
-    real_takes(real, progress=False)  # refuses a folder made from the test grid
+    from tools.fit_styles import check_train_split, content_group
+    check_train_split(real)
     X, y, g, c, _ = R._windowed(R.read_clips(real, "--real"))
     c = np.array([str(content_group(x)) for x in c])  # transitions ("None") train the judge, shift nothing
     judge, C = R.fit_window_classifier(X, y, g)  # (model, its C and CV scores): the realism report's judge, on every real train window
