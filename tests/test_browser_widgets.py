@@ -117,8 +117,12 @@ def nudge_slider(driver, css: str, key: str = "ARROW_RIGHT") -> None:
     the kernel hears of it once."""
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
+    from selenium.webdriver.support import expected_conditions as EC
+    from selenium.webdriver.support.ui import WebDriverWait
     handle = driver.find_element(By.CSS_SELECTOR, f"{css} .noUi-handle")
     driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", handle)
+    # a busy machine may still be laying the widget out: clicking then raises "element not interactable"
+    WebDriverWait(driver, 30).until(EC.element_to_be_clickable(handle))
     handle.click()
     handle.send_keys(getattr(Keys, key))
 
