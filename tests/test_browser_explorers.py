@@ -114,7 +114,8 @@ def test_notebook_02s_transfer_explorer_answers_in_jupyterlab(tmp_path):
         select = driver.find_element(By.CSS_SELECTOR, f"{BOX} .mslib-explorer-method select")
         driver.execute_script("arguments[0].scrollIntoView({block: 'center'});", select)
         Select(select).select_by_visible_text("identity")
-        WebDriverWait(driver, 60).until(lambda d: "identity" in _status(d))
+        # the kernel answers once it is idle: the notebook's later cells (a live training) may still be running
+        WebDriverWait(driver, 600).until(lambda d: "identity" in _status(d))
         canvas = f"{BOX} .mslib-viewer-canvas"
         WebDriverWait(driver, 10).until(lambda d: pixels(d, canvas)["digest"] != before["digest"])
         assert likely_styles(driver) != [DEMO]  # the content walk is not read as the demo style

@@ -219,8 +219,6 @@ class Simulator:
 
     def __call__(self, means: dict):
         from mslib.data import styles, synth
-        from mslib.data.mocap_skeleton import to_bvh_motion
-        from mslib.data.retarget import register_motion
         original = styles.style_mean
         styles.style_mean = lambda style, substyle=None, content=None: dict(means)
         try:
@@ -230,9 +228,15 @@ class Simulator:
         self.calls += 1
         groups = {}
         for spec, t in zip(self.specs, takes):
-            bvh = to_bvh_motion(t.rotations, t.root, t.skeleton, fps=t.fps)
-            groups.setdefault(spec["content"], []).append(register_motion(bvh, "builtin").positions)
+            groups.setdefault(spec["content"], []).append(registered_positions(t))
         return self.describe(groups)
+
+
+def registered_positions(take):
+    """(T, 22, 3) joints of a generated take written as a BVH and registered back, as real takes are."""
+    from mslib.data.mocap_skeleton import to_bvh_motion
+    from mslib.data.retarget import register_motion
+    return register_motion(to_bvh_motion(take.rotations, take.root, take.skeleton, fps=take.fps), "builtin").positions
 
 
 def fit_means(sim, start: dict, target, scale, weights, prior: dict, iters: int, jacobian=None,

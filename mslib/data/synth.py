@@ -2,7 +2,7 @@
 
 Pipeline of `generate_clip`:
     style + content parameters → joint-angle plan driven by a gait/action phase (gait.py, actions.py)
-    → local rotations → forward kinematics on a per-clip body (the HumanML3D 22-joint tree)
+    → the style × content per-joint layer fitted to real capture (joint_moments.py) → local rotations → forward kinematics on a per-clip body (the HumanML3D 22-joint tree)
     → root translation derived from the stance foot (footlock.anchor_root)
     → feet locked on the floor by leg IK (footlock.lock_feet) → joint positions (T, 22, 3).
 A clip is a pure function of (seed, index, content, style, ...): its random generator is
@@ -19,11 +19,11 @@ from scipy.ndimage import gaussian_filter1d
 
 from ..motion import rotations as rot
 from ..motion.skeleton import PARENTS, Skeleton, forward_kinematics, positions_bone_lengths
-from . import actions, gait, kin, styles
+from . import actions, gait, joint_moments, kin, styles
 from .body import FOOT_CONTACT_JOINTS, leg_length, random_body, rot_y
 from .footlock import anchor_root, lock_feet
 
-GENERATOR_VERSION = 4  # bump on any change to the generated numbers: cached corpora are rebuilt
+GENERATOR_VERSION = 5  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
 ANGLE_SMOOTHING = 0.04  # s: Gaussian σ over time of the planned joint angles (real capture is smoother)
 _PLANNERS = {"gait": gait.locomotion, "stand": actions.stand, "punch": actions.punch,
@@ -178,6 +178,9 @@ def _prepare(spec: dict):
     plan = _PLANNERS[styles.CONTENT_TABLE[content][0]](T, fps, plan_rng, sp, cp, leg_length(body))
     if ANGLE_SMOOTHING > 0:
         plan.angles.a = gaussian_filter1d(plan.angles.a, ANGLE_SMOOTHING * fps, axis=0, mode="nearest")
+    moments = joint_moments.cell_moments(style, content, intensity)
+    if moments is not None:  # the fitted per-joint layer, before the feet are locked
+        plan.angles.a = joint_moments.apply_moments(plan.angles.a, moments, fps, np.random.default_rng([seed, index, 2]))
     meta = {"content": content, "style": style, "substyle": substyle, "intensity": intensity,
             "seed": seed, "index": index, "fps": fps, "duration": float((T - 1) / fps), "n_frames": T}
     return dict(meta=meta, sp=sp, cp=cp, body=body, plan=plan, start=start,

@@ -178,7 +178,10 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   described like the real style's — by the cues below and by where they fall among the real styles.
 #   The three sub-styles of each style are thirds of its real walks, split along the axis on which
 #   they differ most. Each style's runs, jumps, punches and kicks are then fitted on their own, where
-#   the real takes have them: an actor's action need not keep the tempo of the same actor's walk;
+#   the real takes have them: an actor's action need not keep the tempo of the same actor's walk.
+#   Last, a per-joint layer (`tools/fit_joint_moments.py`) gives every style × content cell its own
+#   posture offset, amplitude gain and small 1–3 Hz motion per joint angle, fitted so that the cell's
+#   windows fall among the real styles where the real ones do;
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
