@@ -211,8 +211,8 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of one walk in four styles look much alike at this size: AdaIN moves statistics, so look for a change of lean,
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
-# between the content's and the clip's, so the lean moved toward the style; the head height moves less consistently: in
-# some rows it stays at the content's, in others it goes most of the way to the clip's.
+# between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
+# in some rows it stays near the content's, in others it rises above both the content's and the clip's.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)

@@ -132,7 +132,8 @@ print(f"no correction (noisy vs clean) L_rec val {(val_pairs[0] - val_pairs[1]).
 # `OMP_NUM_THREADS=1 .venv/bin/python tools/dsdn_ablation.py --out notebooks/data/05_dsdn_ablation.json`
 # (the three modes trained on the same pairs with the same seed and steps) and is read here. Its dual
 # row is the packaged checkpoint's recipe; the last line sets it beside the packaged model measured on
-# today's validation pairs — the two agree when both were made from the same built-in corpora.
+# today's validation pairs — they agree only when both were made from the same built-in corpora, and the
+# table was measured on an earlier version of them.
 
 # %%
 ablation = load_findings("05_dsdn_ablation")
@@ -236,8 +237,8 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
-# raises both CRA and SRA, so H rises too: a light correction makes the content *and* the style easier to
-# read. Pushed harder, it smooths the style away without gaining content: in the table of section 8, from the
+# raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
+# read at a small cost in style. Pushed harder, it smooths the style away without gaining content: in the table of section 8, from the
 # course κ to κ = 1 SRA falls while CRA stays about level, and H drops — though even at full strength H stays
 # above stage 1 alone (κ = 0).
 
@@ -285,7 +286,7 @@ print("agfu matches the DSDN's fusion")
 
 # %% [nbgrader solution id=ex05_predict_kappa]
 ### BEGIN SOLUTION
-prediction = "closer"
+prediction = "further"
 offset = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
           for k in (model.cfg.correction_strength, 1.0)}
 ### END SOLUTION
