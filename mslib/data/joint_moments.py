@@ -14,7 +14,7 @@ degrees (pitch, yaw, roll), before the feet are locked:
 - s ⊙ n(t), band-limited variation: n is a sum of four sines of random frequency in 0.5–2 Hz and
   random phase per angle, scaled to unit spread, so s is its spread in degrees. Real capture has
   this small continual motion (sway, settling, tremor); it raises the velocity and acceleration
-  spreads without changing the mean pose.
+  spreads and barely moves the mean pose.
 
 Left and right joints share their numbers (mirrored: a right joint's yaw and roll offsets are the
 left's negated), so 96 numbers describe a cell (N_PARAMS). Because the layer acts before the

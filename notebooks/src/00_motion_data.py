@@ -220,13 +220,15 @@ print(format_cross_scores(realism))
 # own style: the walks and runs about as often as it reads real test windows right, the jumps, punches
 # and kicks less often (the *by content* line). Those cells were fitted to a handful of real windows
 # each, and the per-joint layer can only match where a style's windows fall on average, not how the
-# cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
-# at where windows fall among the real styles, not at these cues, and several built-in walkers are now
-# jerkier than the real ones (the jerk panel), the old one taking shorter and slower steps than the
-# real old walker (stride, speed). The other direction still fails: the evaluator trained on
-# built-in clips recognises well under half of the real test takes. The built-in styles now sit where
-# the real ones do in the space a linear judge reads, yet a classifier trained on built-in clips alone
-# still learns cues of the generator that real takes do not share. That is why the benchmark of
+# cues move together within a punch. The walking cues were fitted as well, so posture, arm swing and
+# tempo sit close to the real values; what remains is in the dynamics: every built-in walker is still
+# jerkier than the real one (the jerk panel), and the old one takes shorter, slower steps than the real
+# old walker (stride, speed). The other direction is the harder one: the evaluator trained on built-in
+# clips recognises about half of the real test takes. The layer was also fitted along the directions in
+# which the built-in styles differ, so real takes fall, on average, where a judge trained on built-in
+# data expects them; but single real takes of a style scatter more widely along those directions than
+# built-in ones do, and a classifier trained on built-in clips alone still learns cues of the generator
+# that real takes do not share. That is why the benchmark of
 # notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained on real takes.
 
 # %% [markdown]
