@@ -13,7 +13,7 @@ variants  where the style statistics come from, each trained with the course siz
           separate_frozen  the same E_s, but E_c, E_s and the decoder first trained as an autoencoder,
                            then E_s frozen as A Eq. 3's loss network (no skip);
           shared_frozen    the course recipe: one encoder E for content and style, pre-trained, then frozen.
-strength  the packaged course checkpoint at w ∈ {0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.7} on the same val pairs:
+strength  the packaged course checkpoint at w ∈ {0.4, 0.45, 0.5, 0.55, 0.6, 0.7} on the same val pairs:
           how the course preset's `style_strength` was chosen; also its SRA and CRA style by style there
           (`by_style`), from which notebook 02 picks its demo style (`mslib.notebook.demo_style`).
 recipes   full course-length runs (`--recipes NAME,...`, `--seeds 0,1,2,3`), each scored on the val pairs at
@@ -85,7 +85,7 @@ def strength(pairs, evaluator) -> dict:
     from mslib.models.adain import load_adain
     from mslib.evaluation.bench import by_style, positions
     model = load_adain()
-    rows = [score(model, pairs, evaluator, w) for w in (0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6, 0.7)]
+    rows = [score(model, pairs, evaluator, w) for w in (0.4, 0.45, 0.5, 0.55, 0.6, 0.7)]
     for r in rows:
         print(r, flush=True)
     outs = [positions(model.transfer_features(c["features"], s["features"])) for c, s in pairs]

@@ -180,10 +180,8 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   they differ most. Each style's runs, jumps, punches and kicks are then fitted on their own, where
 #   the real takes have them: an actor's action need not keep the tempo of the same actor's walk.
 #   Last, a per-joint layer (`tools/fit_joint_moments.py`) gives every style × content cell its own
-#   posture offset, amplitude gain and small 0.5–2 Hz motion per joint angle, fitted so that the cell's
-#   windows fall where the real ones do — along the directions in which the real styles differ, and
-#   along those in which the built-in styles differ (where a judge trained on built-in data looks) —
-#   and, for walks, so that the walking cues below match too;
+#   posture offset, amplitude gain and small 1–3 Hz motion per joint angle, fitted so that the cell's
+#   windows fall among the real styles where the real ones do;
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
@@ -220,15 +218,13 @@ print(format_cross_scores(realism))
 # own style: the walks and runs about as often as it reads real test windows right, the jumps, punches
 # and kicks less often (the *by content* line). Those cells were fitted to a handful of real windows
 # each, and the per-joint layer can only match where a style's windows fall on average, not how the
-# cues move together within a punch. The walking cues were fitted as well, so posture, arm swing and
-# tempo sit close to the real values; what remains is in the dynamics: every built-in walker is still
-# jerkier than the real one (the jerk panel), and the old one takes shorter, slower steps than the real
-# old walker (stride, speed). The other direction is the harder one: the evaluator trained on built-in
-# clips recognises about half of the real test takes. The layer was also fitted along the directions in
-# which the built-in styles differ, so real takes fall, on average, where a judge trained on built-in
-# data expects them; but single real takes of a style scatter more widely along those directions than
-# built-in ones do, and a classifier trained on built-in clips alone still learns cues of the generator
-# that real takes do not share. That is why the benchmark of
+# cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
+# at where windows fall among the real styles, not at these cues, and several built-in walkers are now
+# jerkier than the real ones (the jerk panel), the old one taking shorter and slower steps than the
+# real old walker (stride, speed). The other direction still fails: the evaluator trained on
+# built-in clips recognises well under half of the real test takes. The built-in styles now sit where
+# the real ones do in the space a linear judge reads, yet a classifier trained on built-in clips alone
+# still learns cues of the generator that real takes do not share. That is why the benchmark of
 # notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained on real takes.
 
 # %% [markdown]

@@ -175,7 +175,7 @@ _ = fig
 # %% [markdown]
 # Once the decoder must also match the style's statistics, $\mathcal{L}_{style}$ falls, on the training
 # batches and on validation alike (the last line above). $\mathcal{L}_{content}$ does not fall with it: the
-# line before shows it giving a little back, on the training batches and on validation alike. The two
+# line before shows it giving a little back on the training batches and barely moving on validation. The two
 # terms pull against each other, which is why A weighs them with $\lambda$s.
 
 # %% [markdown]
@@ -211,8 +211,8 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of one walk in four styles look much alike at this size: AdaIN moves statistics, so look for a change of lean,
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
-# between the content's and the clip's, so the lean moved toward the style; the head height follows less consistently:
-# in some rows it stays near the content's, in others it rises to about the clip's level or just above it.
+# between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
+# in some rows it stays near the content's, in others it rises above both the content's and the clip's.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)

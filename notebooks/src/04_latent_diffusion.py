@@ -423,7 +423,7 @@ for claim, result in claims.items():
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
 # every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
-# to 5, SRA gains less than CRA loses, so H drops — and H, which needs both, picked the
+# to 5, SRA gains only a few points while CRA keeps falling, so H drops — and H, which needs both, picked the
 # course preset's λ below B's 2.5 on validation pairs.
 
 # %% [markdown]

@@ -132,8 +132,8 @@ print(f"no correction (noisy vs clean) L_rec val {(val_pairs[0] - val_pairs[1]).
 # `OMP_NUM_THREADS=1 .venv/bin/python tools/dsdn_ablation.py --out notebooks/data/05_dsdn_ablation.json`
 # (the three modes trained on the same pairs with the same seed and steps) and is read here. Its dual
 # row is the packaged checkpoint's recipe; the last line sets it beside the packaged model measured on
-# today's validation pairs — they agree when both were made from the same built-in corpora (the table
-# names its commit).
+# today's validation pairs — they agree only when both were made from the same built-in corpora, and the
+# table was measured on an earlier version of them.
 
 # %%
 ablation = load_findings("05_dsdn_ablation")
@@ -144,7 +144,7 @@ val_rec = {r["mode"]: r["val_rec"] for r in ablation["rows"]}
 print("A Table 2 direction on validation (dual below both single streams):",
       val_rec["dual"] < min(val_rec["dynamic"], val_rec["static"]))
 dual_row = next(r for r in ablation["rows"] if r["mode"] == "dual")
-# the table beside the packaged model on today's validation pairs (the same when both saw the same corpora):
+# the table was measured on the corpora the packaged model was trained on; on today's corpora it reads:
 print(f"dual row val L_rec {dual_row['val_rec']:.3f} in the table; the packaged model on today's validation "
       f"pairs {val_course['rec']:.3f}")
 
@@ -207,10 +207,9 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ and then stays about level, while SRA falls
-# steadily — every step of correction smooths part of the style away. Jitter falls all the way; foot
-# sliding (FSF) falls most at a middle strength and creeps back up at full correction, so smoother is not
-# the same as better planted.
+# table says which). Read the columns: CRA rises with κ up to the middle of the range and then stays about level, while SRA first rises and then
+# falls — a light correction makes the style easier to read, a full one smooths part of it away. Jitter falls
+# all the way; foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
 
 # %%
 st = ablation["strength"]
@@ -238,10 +237,10 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
-# raises CRA by more points than it lowers SRA, yet H falls slightly on this test draw: the harmonic mean
-# weighs the lost style more, because SRA is the smaller of the two. Pushed harder, it smooths the style
-# away without gaining content: in the table of section 8, from the course κ to κ = 1 SRA falls while CRA
-# stays about level, and at full strength H falls below stage 1 alone (κ = 0).
+# raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
+# read at a small cost in style. Pushed harder, it smooths the style away without gaining content: in the table of section 8, from the
+# course κ to κ = 1 SRA falls while CRA stays about level, and H drops — though even at full strength H stays
+# above stage 1 alone (κ = 0).
 
 # %% [markdown]
 # ## Exercises
@@ -287,7 +286,7 @@ print("agfu matches the DSDN's fusion")
 
 # %% [nbgrader solution id=ex05_predict_kappa]
 ### BEGIN SOLUTION
-prediction = "closer"
+prediction = "further"
 offset = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
           for k in (model.cfg.correction_strength, 1.0)}
 ### END SOLUTION

@@ -210,12 +210,12 @@ else:
 # **Reading the two tables.** The packaged evaluator learned its classes from built-in motion only: on
 # real contents its content classifier is mostly wrong (read identity's CRA), so its CRA and H say little
 # here. The real judge recognises the grid's takes themselves almost perfectly, and by it every method
-# keeps more content than copy_style and takes more style than identity, and every method but adain+dsdn
-# has a higher H than both reference rows — something of the transfer carries over — but the target style is recognised in only a
+# keeps more content than copy_style, takes more style than identity and has a higher H than both
+# reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
-# Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps no more of
-# the real content and smooths part of the real style back out (its SRA is below adain's), so by the real
-# judge its H is lower than adain's, as in the built-in table. That gap is the honest state of
+# Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps more of the
+# real content but smooths part of the real style back out (its SRA is well below adain's), so by the real
+# judge its H is lower than adain's — the reverse of the built-in table. That gap is the honest state of
 # the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
 # %% [markdown]

@@ -76,8 +76,7 @@ for m in ("adain", "adain+dsdn"):
            "python -m mslib bench --method all --pairs 200")
 
 # %% [markdown]
-# Both stages clear the references on the built-in pairs; on the real ones stage 1 does, by a hair, and
-# stage 2 does not. On real pairs the
+# Both stages clear the references, on the built-in pairs and on the real ones. On real pairs the
 # correction costs style (compare the two SRAs of the real column): DSDN was trained to undo stage 1's
 # artefacts on built-in motion, and on real motion it also smooths away part of the real style it was given.
 #
@@ -238,20 +237,18 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
        real["clusterstyle"]["diversity"] > real["adain"]["diversity"] if real else None, "python -m mslib bench --method all")
 
 # %% [markdown]
-# D's diversity claim holds: choosing a prototype moves the output in a way a new seed alone does not.
-# Whether clusterstyle's outputs are more diverse than AdaIN's, the summary below says for both benchmarks.
-# Its Table 3 does not reproduce: after the same short run, the plain classification head's transfers read
-# as their style more often than the prototype head's, by more than the standard error printed above, and
-# keep their content more often too. That is one short run per head, so hold it against the seed spread
-# of the recipes shown below before reading it as the opposite of D's claim.
+# D's diversity claim holds — choosing a prototype moves the output in a way a new seed alone does not — and
+# clusterstyle's outputs are more diverse than AdaIN's on the built-in benchmark, though not on the real pairs.
+# Its Table 3 does not reproduce on SRA: after the same short run the two heads give transfers that read as
+# style equally often (well inside one standard error). They differ more in content (CRA), by an amount that
+# one short run per head cannot separate from the seed spread shown below.
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
 # checkpoints were retrained on the current corpora with the recipes they chose. A's and B's seed searches
-# also ran on an earlier version of the corpora; the packaged models keep the seeds those searches chose,
-# retrained on the current corpora. Read them as a lesson in noise: the same recipe, trained again with another
+# ran on the current corpora, and each packaged model is its search's best seed on val pairs. Read them as a lesson in noise: the same recipe, trained again with another
 # seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
