@@ -45,8 +45,7 @@ def _status(driver, box: str = BOX) -> str:
 
 def _screenshot(driver, path: Path, box: str = BOX) -> Path:
     from selenium.webdriver.common.by import By
-    for button in driver.find_elements(By.XPATH, "//div[contains(@class,'jp-toast')]//button[text()='No']"):
-        button.click()   # the news toast
+    assert not driver.find_elements(By.CSS_SELECTOR, ".jp-toast"), "a JupyterLab toast despite QUIET_LAB"
     element = driver.find_element(By.CSS_SELECTOR, box)
     driver.execute_script("arguments[0].scrollIntoView({block: 'start'});", element)
     time.sleep(0.5)
