@@ -106,14 +106,18 @@ def test_the_generator_applies_the_layer_and_stays_deterministic():
 
 
 def test_fit_cell_closes_a_reachable_gap(monkeypatch):
-    """With features linear in the numbers, the fit lands near a target that some numbers reach."""
+    """With features and cues linear in the numbers, the fit lands near a target that some numbers reach."""
+    from mslib.evaluation.cues import CUES
     rng = np.random.default_rng(0)
     A = rng.normal(size=(jm.N_PARAMS, 20)) * 0.05
-    base = rng.normal(size=20)
+    C = rng.normal(size=(jm.N_PARAMS, len(CUES))) * 0.02
+    base, cue_base = rng.normal(size=20), rng.normal(size=len(CUES))
 
-    def fake(style, content, theta):  # (4, 20) windows whose mean moves linearly with theta
-        return base + np.asarray(theta) @ A + np.zeros((4, 1))
-    monkeypatch.setattr(F, "generated_features", fake)
+    def fake(style, content, table, with_cues=False):  # windows whose mean moves linearly with the cell's numbers
+        theta = np.asarray(table[(style, content)])
+        cues = cue_base + theta @ C + np.zeros((3, 1)) if with_cues else None
+        return base + theta @ A + np.zeros((4, 1)), cues
+    monkeypatch.setattr(F, "generated_windows", fake)
 
     class Identity:
         @staticmethod
@@ -125,3 +129,17 @@ def test_fit_cell_closes_a_reachable_gap(monkeypatch):
     out = F.fit_cell("old", "punch", base + truth @ A, Identity, directions, iters=3)
     assert out["residual_after"] < 0.01 * out["residual_before"]
     assert len(out["theta"]) == jm.N_PARAMS
+    walk = F.fit_cell("old", "walk", base + truth @ A, Identity, directions, cue_base + truth @ C,
+                      np.full(len(CUES), 0.1), iters=3)  # a walk matches its cues as well
+    assert walk["residual_after"] < 0.01 * walk["residual_before"]
+    assert walk["residual_before"] > out["residual_before"]  # the cue gap counts in the residual
+
+
+def test_the_discriminant_directions_are_in_units_of_the_within_style_spread():
+    rng = np.random.default_rng(1)
+    y = np.repeat(np.array(["a", "b", "c"]), 200)
+    Z = rng.normal(size=(600, 6)) + (y == "b")[:, None] * [3, 0, 0, 0, 0, 0] + (y == "c")[:, None] * [0, 0, 2, 0, 0, 0]
+    D = F.discriminant_directions(Z, y)
+    assert D.shape == (2, 6)
+    np.testing.assert_allclose(F.within_spread(Z @ D.T, y), 1.0, rtol=0.05)  # LDA scalings: unit within-class spread
+    assert np.abs(D[:, [1, 3, 4, 5]]).max() < 0.3 * np.abs(D[:, [0, 2]]).max()  # it reads the telling features

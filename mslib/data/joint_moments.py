@@ -11,7 +11,7 @@ degrees (pitch, yaw, roll), before the feet are locked:
 
 - o, a posture offset (pitch only for the midline joints: pelvis, spine, neck, head);
 - g = exp(log g), an amplitude gain of each angle about the clip's mean a̅;
-- s ⊙ n(t), band-limited variation: n is a sum of four sines of random frequency in 1–3 Hz and
+- s ⊙ n(t), band-limited variation: n is a sum of four sines of random frequency in 0.5–2 Hz and
   random phase per angle, scaled to unit spread, so s is its spread in degrees. Real capture has
   this small continual motion (sway, settling, tremor); it raises the velocity and acceleration
   spreads without changing the mean pose.
@@ -39,7 +39,7 @@ MIRROR = np.array([1.0, -1.0, -1.0])  # (pitch, yaw, roll) of a right joint = MI
 N_OFFSET = len(MIDLINE) + 3 * len(PAIRED)  # 24
 N_GAIN = 3 * len(MIDLINE) + 3 * len(PAIRED)  # 36
 N_PARAMS = N_OFFSET + 2 * N_GAIN  # 96 numbers per (style, content): offsets, log gains, spreads
-BAND_HZ = (1.0, 3.0)  # frequencies of the variation
+BAND_HZ = (0.5, 2.0)  # frequencies of the variation: sway and settling, not tremor (jerk grows as f³)
 N_SINES = 4
 OFFSET_LIMIT, LOG_GAIN_LIMIT, SPREAD_LIMIT = 40.0, 1.0, 25.0  # degrees, log, degrees
 

@@ -180,8 +180,10 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   they differ most. Each style's runs, jumps, punches and kicks are then fitted on their own, where
 #   the real takes have them: an actor's action need not keep the tempo of the same actor's walk.
 #   Last, a per-joint layer (`tools/fit_joint_moments.py`) gives every style × content cell its own
-#   posture offset, amplitude gain and small 1–3 Hz motion per joint angle, fitted so that the cell's
-#   windows fall among the real styles where the real ones do;
+#   posture offset, amplitude gain and small 0.5–2 Hz motion per joint angle, fitted so that the cell's
+#   windows fall where the real ones do — along the directions in which the real styles differ, and
+#   along those in which the built-in styles differ (where a judge trained on built-in data looks) —
+#   and, for walks, so that the walking cues below match too;
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
