@@ -84,12 +84,13 @@ def variation(T: int, fps: float, rng) -> np.ndarray:
     return np.sin(2 * np.pi * freq[:, None] * t + phase[:, None]).sum(0) / np.sqrt(N_SINES / 2)  # each sine: variance ½
 
 
-def apply_moments(angles, theta, fps: float, rng) -> np.ndarray:
-    """a' = a̅ + g ⊙ (a − a̅) + o + s ⊙ n(t) on (T, 22, 3) angles in degrees."""
+def apply_moments(angles, theta, fps: float, rng, strength: float = 1.0) -> np.ndarray:
+    """a' = a̅ + g^k ⊙ (a − a̅) + o + k·s ⊙ n(t) on (T, 22, 3) angles in degrees, k = `strength`
+    (1: the fitted layer; 0: its posture offsets alone)."""
     a = np.asarray(angles, np.float64)
     offset, gain, spread = unpack(theta)
     mean = a.mean(0, keepdims=True)  # a̅, (1, 22, 3)
-    return mean + gain * (a - mean) + offset + spread * variation(len(a), fps, rng)
+    return mean + gain ** strength * (a - mean) + offset + strength * spread * variation(len(a), fps, rng)
 
 
 def fitted_moments(path: Path = MOMENTS_FILE) -> dict:

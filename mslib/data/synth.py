@@ -8,7 +8,10 @@ Pipeline of `generate_clip`:
 A clip is a pure function of (seed, index, content, style, ...): its random generator is
 `np.random.default_rng([seed, index])`, so any subset regenerates identically, in any order or
 process. `plausibility` measures what tests check: foot slide in contact, floor contact, bone
-lengths, joint speeds.
+lengths, joint speeds. The fitted layer can amplify a plan past what a body does; a clip that comes
+out with a joint faster than MAX_JOINT_SPEED, or an in-place content whose root wanders
+IN_PLACE_TRAVEL or more, is made again with the layer's gains and variation weakened
+(LAYER_FALLBACK), so every clip keeps these limits by construction.
 """
 from __future__ import annotations
 
@@ -23,9 +26,12 @@ from . import actions, gait, joint_moments, kin, styles
 from .body import FOOT_CONTACT_JOINTS, leg_length, random_body, rot_y
 from .footlock import anchor_root, lock_feet
 
-GENERATOR_VERSION = 6  # bump on any change to the generated numbers: cached corpora are rebuilt
+GENERATOR_VERSION = 7  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
 ANGLE_SMOOTHING = 0.04  # s: Gaussian σ over time of the planned joint angles (real capture is smoother)
+MAX_JOINT_SPEED = 12.0  # m/s: no joint of a clip moves faster (a fast kick's foot is about 10)
+IN_PLACE_CONTENTS, IN_PLACE_TRAVEL = ("stand", "punch", "wave"), 0.25  # m: root range (x or z) of in-place contents
+LAYER_FALLBACK = (0.5, 0.25, 0.0)  # strengths of the layer's gains and variation, tried in turn past a limit
 _PLANNERS = {"gait": gait.locomotion, "stand": actions.stand, "punch": actions.punch,
              "kick": actions.kick, "wave": actions.wave, "jump": actions.jump}
 
@@ -143,8 +149,9 @@ def travel_stats(positions, fps: float) -> dict:
             "travel_direction": float(direction)}
 
 
-def _prepare(spec: dict):
-    """Everything of one clip before the batched kinematics: parameters, body, joint-angle plan."""
+def _prepare(spec: dict, layer_strength: float = 1.0):
+    """Everything of one clip before the batched kinematics: parameters, body, joint-angle plan
+    (the fitted layer's gains and variation at `layer_strength`, its posture offsets in full)."""
     content, style = spec.get("content"), spec.get("style", "neutral")
     substyle, fps = spec.get("substyle"), float(spec.get("fps", 20.0))
     seed, index = int(spec.get("seed", 0)), int(spec.get("index", 0))
@@ -180,7 +187,8 @@ def _prepare(spec: dict):
         plan.angles.a = gaussian_filter1d(plan.angles.a, ANGLE_SMOOTHING * fps, axis=0, mode="nearest")
     moments = joint_moments.cell_moments(style, content, intensity)
     if moments is not None:  # the fitted per-joint layer, before the feet are locked
-        plan.angles.a = joint_moments.apply_moments(plan.angles.a, moments, fps, np.random.default_rng([seed, index, 2]))
+        plan.angles.a = joint_moments.apply_moments(plan.angles.a, moments, fps, np.random.default_rng([seed, index, 2]),
+                                                    strength=layer_strength)
     meta = {"content": content, "style": style, "substyle": substyle, "intensity": intensity,
             "seed": seed, "index": index, "fps": fps, "duration": float((T - 1) / fps), "n_frames": T}
     return dict(meta=meta, sp=sp, cp=cp, body=body, plan=plan, start=start,
@@ -208,10 +216,33 @@ def _finish(prep, R, root, contacts4, positions, feet, pitch) -> SynthClip:
     return canonicalize(clip) if prep["canonical"] else clip
 
 
+def within_limits(clip: SynthClip) -> bool:
+    """No joint faster than MAX_JOINT_SPEED; an in-place content's root within IN_PLACE_TRAVEL."""
+    speed = np.linalg.norm(np.diff(clip.positions, axis=0), axis=-1).max(initial=0.0) * clip.fps
+    if speed > MAX_JOINT_SPEED:
+        return False
+    return (clip.meta["content"] not in IN_PLACE_CONTENTS
+            or np.ptp(clip.positions[:, 0, [0, 2]], axis=0).max() < IN_PLACE_TRAVEL)
+
+
 def generate_clips(specs) -> list:
     """Generate many clips at once (the kinematics run batched); each spec is a dict of
-    generate_clip's arguments. The result of a clip does not depend on the others."""
-    preps = [_prepare(dict(s)) for s in specs]
+    generate_clip's arguments. The result of a clip does not depend on the others: one past
+    the limits (`within_limits`) is made again with the fitted layer weakened (LAYER_FALLBACK)."""
+    specs = [dict(s) for s in specs]
+    out = _generate([_prepare(s) for s in specs])
+    for strength in LAYER_FALLBACK:
+        again = [i for i, clip in enumerate(out) if not within_limits(clip)]
+        if not again:
+            break
+        redone = _generate([_prepare(specs[i], strength) for i in again])
+        for i, clip in zip(again, redone):
+            out[i] = clip
+    return out
+
+
+def _generate(preps) -> list:
+    """The batched kinematics of prepared clips."""
     out = [None] * len(preps)
     for fps in sorted({p["meta"]["fps"] for p in preps}):
         group = [i for i, p in enumerate(preps) if p["meta"]["fps"] == fps]
