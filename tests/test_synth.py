@@ -136,6 +136,27 @@ def test_determinism_and_batch_independence():
     assert np.allclose(batch[1].positions, a.positions, atol=1e-12)
 
 
+def test_a_clip_past_the_limits_is_made_again_with_a_weaker_layer(monkeypatch):
+    """A layer that swings every angle six times as wide drives a punch past the speed limit; the clip comes back within the limits,
+    made with the layer weakened, and the same spec still gives the same clip (deterministic)."""
+    from mslib.data import joint_moments as jm
+    from mslib.data import synth
+    wild = np.zeros(jm.N_PARAMS)
+    wild[jm.N_OFFSET:jm.N_OFFSET + jm.N_GAIN] = np.log(6.0)  # every gain × 6: the fist at about 17 m/s
+    monkeypatch.setattr(jm, "cell_moments", lambda style, content, intensity=1.0, table=None: wild)
+    strengths = []
+    prepare = synth._prepare
+    monkeypatch.setattr(synth, "_prepare", lambda spec, layer_strength=1.0: (strengths.append(layer_strength),
+                                                                            prepare(spec, layer_strength))[1])
+    spec = dict(content="punch", style="angry", seed=3, index=25)
+    clip = generate_clips([spec])[0]
+    assert synth.within_limits(clip) and strengths[0] == 1.0 and strengths[-1] < 1.0, strengths
+    assert np.array_equal(generate_clips([spec])[0].positions, clip.positions)
+    monkeypatch.undo()
+    plain = generate_clips([spec])[0]  # the fitted layer: within the limits as made
+    assert synth.within_limits(plain) and not np.array_equal(plain.positions, clip.positions)
+
+
 def test_styles_and_substyles_are_distinct_distributions():
     assert len(STYLES) == 8 and set(STYLE_CONTENTS) <= set(CONTENTS) and len(CONTENTS) >= 8
     for s in STYLES:

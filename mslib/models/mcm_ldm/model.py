@@ -36,8 +36,8 @@ Ablations of B Table 2 are config switches: `use_remover` (content through a lin
 `use_traj` (no trajectory condition), `pretrained_style` (a fresh style encoder trained by the diffusion
 loss alone); the strength knobs are `cfg_scale` (λ) and `ddim_steps`. The course samples with 20 DDIM steps, not
 the release's 50: on validation pairs H is the same within 0.01 and sampling 2.5× faster; and it guides with
-λ = 1.5, not B's 2.5: the best validation H of λ ∈ {1.5, 2, 2.5, 3} on the built-in corpora fitted to real
-capture, where stronger guidance copies more of the style clip's action (`tools/mcm_ldm_ablations.py --only choose`).
+λ = 2, not B's 2.5: the best validation H of λ ∈ {1, 1.25, 1.5, 2, 2.5, 3} on the built-in corpora fitted to
+real capture, where stronger guidance copies more of the style clip's action (`tools/mcm_ldm_ablations.py --only choose`).
 
     model = MCMLDM(MCMConfig.preset("course"), latent_tokens, latent_dim, style_dim, style_cfg)
     cond = model.conditions(z_content, style, traj, traj_mask)   # once per clip
@@ -91,7 +91,7 @@ class MCMConfig(Config):
     PRESETS: ClassVar[dict] = {
         "paper": {},
         "course": dict(width=96, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, patch=0, steps=6000,
-                       batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=1.5),
+                       batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=2.0),
     }
     # the InstanceNorm axis, a narrow content layer, noise on the content latent, one trajectory condition per token
     RETIRED: ClassVar[dict] = {"remover_norm": "channel", "content_bottleneck": 0, "content_noise": 0.0,
