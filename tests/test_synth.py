@@ -137,8 +137,8 @@ def test_determinism_and_batch_independence():
 
 
 def test_a_clip_past_the_limits_is_made_again_with_a_weaker_layer(monkeypatch):
-    """A layer that swings every angle six times as wide drives a punch past the speed limit; the clip comes back within the limits,
-    made with the layer weakened, and the same spec still gives the same clip (deterministic)."""
+    """A layer that swings every angle six times as wide drives a punch past the speed limit; the clip comes
+    back within the limits, made with the layer weakened, and the same spec gives the same clip again."""
     from mslib.data import joint_moments as jm
     from mslib.data import synth
     wild = np.zeros(jm.N_PARAMS)
