@@ -41,3 +41,12 @@ def test_saved_notebook_markdown_has_no_control_characters(nb):
     cells = json.loads(nb.read_text(encoding="utf-8"))["cells"]
     bad = [i for i, c in enumerate(cells) if c["cell_type"] == "markdown" and control_characters("".join(c["source"]))]
     assert bad == [], f"{nb.name}: markdown cells {bad}"
+
+
+@pytest.mark.parametrize("src", sorted((NOTEBOOKS / "src").glob("*.py")), ids=lambda p: p.name)
+def test_saved_notebook_cells_are_its_sources(src):
+    """Each saved notebook holds exactly its source's cells (kind and text): an edit made in the .ipynb alone
+    would be lost at the next build, and one made in the source alone would never reach nbval."""
+    cells = json.loads((NOTEBOOKS / f"{src.stem}.ipynb").read_text(encoding="utf-8"))["cells"]
+    saved = [(c["cell_type"], "".join(c["source"])) for c in cells]
+    assert saved == [(kind, body) for kind, body, _ in BUILD.read_cells(src)], src.stem

@@ -185,8 +185,8 @@ _ = fig
 # fallback below, which gives the same weights on the same machine (the seed fixes the initial weights
 # and every draw of the batches). The course preset counts the content path twice
 # in A Eq. 5 ($\lambda_{content} = 2$), a recipe chosen on val pairs (`tools/adain_variants.py`). The same
-# tool trained the course recipe on four seeds and packaged the one with the best val H
-# (appendix 08 shows the spread). All these choices used val pairs, never the benchmark's test pairs. Its history travels with it:
+# tool trained the course recipe on four seeds and packaged the one with the best val H at the style strength
+# of the time (appendix 08 shows the spread). All these choices used val pairs, never the benchmark's test pairs. Its history travels with it:
 # the final validation content loss is no higher than the training one (their ratio is printed below), so
 # the model reconstructs unseen clips at least as well as seen ones.
 
@@ -260,9 +260,9 @@ print("the evaluator reads the transfer as:", evaluator.read_style(demo_out))
 # %% [markdown]
 # **Try it.** The explorer below runs the packaged model live: pick a content clip, a style and a method, and
 # compare the output with its content and style clips; the bars are the independent style classifier's
-# probabilities for the output. It opens on the style stage 1 moves most reliably on the **val** pairs, the first
-# of the strip's four. Then try the others: it moves the rest of the strip less reliably, and the other
-# non-neutral styles less reliably still. The cell after it calls the same function with fixed choices and
+# probabilities for the output. It opens on a style stage 1 moves among the most reliably on the **val** pairs, the
+# first of the strip's four. Then try the others: it moves the rest of the strip as reliably or less, and the
+# other non-neutral styles less reliably still. The cell after it calls the same function with fixed choices and
 # prints them.
 
 # %%

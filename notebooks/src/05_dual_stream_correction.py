@@ -132,8 +132,8 @@ print(f"no correction (noisy vs clean) L_rec val {(val_pairs[0] - val_pairs[1]).
 # `OMP_NUM_THREADS=1 .venv/bin/python tools/dsdn_ablation.py --out notebooks/data/05_dsdn_ablation.json`
 # (the three modes trained on the same pairs with the same seed and steps) and is read here. Its dual
 # row is the packaged checkpoint's recipe; the last line sets it beside the packaged model measured on
-# today's validation pairs — they agree only when both were made from the same built-in corpora, and the
-# table was measured on an earlier version of them.
+# today's validation pairs — they agree when both were made from the same built-in corpora, as they are
+# now.
 
 # %%
 ablation = load_findings("05_dsdn_ablation")
@@ -207,8 +207,9 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ up to the middle of the range and then stays about level, while SRA first rises and then
-# falls — a light correction makes the style easier to read, a full one smooths part of it away. Jitter falls
+# table says which). Read the columns: CRA rises with κ, fastest in the lower half, while SRA holds for a light correction and
+# then falls — a light correction makes the content easier to read at no cost in style, a full one smooths part
+# of the style away. Jitter falls
 # all the way; foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
 
 # %%
@@ -238,8 +239,8 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
 # raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
-# read at a small cost in style. Pushed harder, it smooths the style away without gaining content: in the table of section 8, from the
-# course κ to κ = 1 SRA falls while CRA stays about level, and H drops — though even at full strength H stays
+# read at a small cost in style. Pushed harder, it loses more style than it gains content: in the table of section 8, from the
+# course κ to κ = 1 SRA falls faster than CRA rises, and H drops — though even at full strength H stays
 # above stage 1 alone (κ = 0).
 
 # %% [markdown]

@@ -239,17 +239,17 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # %% [markdown]
 # D's diversity claim holds — choosing a prototype moves the output in a way a new seed alone does not — and
 # clusterstyle's outputs are more diverse than AdaIN's on the built-in benchmark, though not on the real pairs.
-# Its Table 3 does not reproduce on SRA: after the same short run the two heads give transfers that read as
-# style equally often (well inside one standard error). They differ more in content (CRA), by an amount that
+# Its Table 3 points D's way on SRA, but only just: after the same short run the prototype head's transfers
+# read as their style a little more often, by well under one standard error. They differ more in content (CRA), by an amount that
 # one short run per head cannot separate from the seed spread shown below.
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
-# checkpoints were retrained on the current corpora with the recipes they chose. A's and B's seed searches
-# also ran on an earlier version of the corpora; the packaged models keep the seeds those searches chose,
-# retrained on the current corpora. Read them as a lesson in noise: the same recipe, trained again with another
+# checkpoints were retrained on the current corpora with the recipes they chose. A's seed search
+# also ran on an earlier version of the corpora (the packaged model keeps the seed it chose, retrained on the
+# current corpora); B's ran on the current ones. Read them as a lesson in noise: the same recipe, trained again with another
 # seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
@@ -264,8 +264,8 @@ for r in av["variants"]["rows"]:
 for k, v in best_var.items():
     print(f"  {k:<16} {v:.3f}")
 ar = av["recipes"]
-print(f"\nA stage 1, the course recipe at other seeds (tools/adain_variants.py --only recipes; val H at the course "
-      f"w = {ar['course_strength']:g}):")
+print(f"\nA stage 1, the course recipe at other seeds (tools/adain_variants.py --only recipes; val H at "
+      f"w = {ar['course_strength']:g}, the course w when it ran):")
 print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in ar["rows"]
                        if r["recipe"] == "course" and r["strength"] == ar["course_strength"])
       + f"  | packaged before: {ar['packaged_h']:.3f}, "
