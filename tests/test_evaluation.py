@@ -8,6 +8,7 @@ from mslib.evaluation import bench
 from mslib.evaluation import evaluator as E
 from mslib.motion import features as F
 from mslib.motion import rotations as rot
+from mslib.motion.skeleton import mirror_positions
 from tests.test_features import synthetic_motion
 
 
@@ -27,6 +28,31 @@ def test_windows_cover_short_and_long_sequences():
     assert E.windows_of(np.zeros((10, 64))).shape == (1, 32, 64)
     w = E.windows_of(np.arange(70)[:, None] * np.ones((1, 64)))
     assert w.shape[1:] == (32, 64) and w[0, 0, 0] == 0 and w[-1, -1, 0] == 69
+
+
+def test_replay_at_changes_the_tempo_and_keeps_the_path():
+    x = np.arange(41, dtype=float)[:, None] * np.ones((1, 3))
+    fast, slow = E.replay_at(x, 2.0), E.replay_at(x, 0.5)
+    assert len(fast) == 20 and len(slow) == 82
+    for y in (fast, slow):  # the same straight path, end to end, at another speed
+        assert y[0, 0] == 0 and y[-1, 0] == 40 and np.all(np.diff(y[:, 0]) > 0)
+    np.testing.assert_allclose(E.replay_at(x, 1.0), x)
+
+
+def test_augmented_windows_mirror_replay_and_add_noise():
+    p = synthetic_motion(T=60)
+    p[:, 16::2, 0] += 0.3  # the left arm held out to the side: mirroring must move it to the right
+    plain = E.WindowDataset([p], [0], seed=0)
+    mirrored = E.WindowDataset([p], [0], seed=0, augment=E.Augment(mirror=1.0))
+    np.testing.assert_allclose(mirrored.mirrored[0], E.classifier_input(mirror_positions(p)), atol=1e-5)
+    assert not np.allclose(mirrored.mirrored[0], plain.inputs[0], atol=1e-3)
+    noisy = E.WindowDataset([p], [0], seed=0, augment=E.Augment(noise=0.5))
+    w_plain, w_noisy = plain[0][0].numpy(), noisy[0][0].numpy()
+    assert w_noisy.shape == w_plain.shape == (32, 64) and not np.allclose(w_noisy, w_plain)
+    tempo = E.WindowDataset([p], [0], seed=3, augment=E.Augment(tempo=1.0))
+    assert tempo[0][0].shape == (32, 64)
+    with pytest.raises(ValueError, match="augment"):
+        E.Augment(mirror=1.5)
 
 
 def toy_folder(path, n_per=12):

@@ -19,6 +19,7 @@ import torch
 from torch import nn
 
 from ..motion.features import check_positions, root_relative
+from ..motion.skeleton import mirror_positions
 
 WINDOW = 32
 INPUT_DIM = 64
@@ -42,6 +43,28 @@ def windows_of(x: np.ndarray, length: int = WINDOW, stride: int = 16) -> np.ndar
     if starts[-1] != len(x) - length:
         starts.append(len(x) - length)
     return np.stack([x[s:s + length] for s in starts])
+
+
+@dataclass(frozen=True)
+class Augment:
+    """Nuisance changes to training windows, so the classifier learns style rather than quirks of one corpus."""
+
+    mirror: float = 0.0  # share of windows with left and right swapped (a style has no handedness)
+    tempo: float = 0.0  # windows replayed at a speed drawn log-uniformly from [1/(1+tempo), 1+tempo]
+    noise: float = 0.0  # Gaussian noise added to every input, in units of that input's std over the corpus
+
+    def __post_init__(self):
+        if not 0.0 <= self.mirror <= 1.0 or self.tempo < 0.0 or self.noise < 0.0:
+            raise ValueError(f"augment: mirror a share in [0, 1], tempo and noise ≥ 0, got {self}")
+
+
+def replay_at(x: np.ndarray, speed: float) -> np.ndarray:
+    """(T, D) → (≈T/speed, D): the sequence replayed `speed` times as fast (linear interpolation)."""
+    n = max(2, int(round(len(x) / speed)))
+    t = np.linspace(0.0, len(x) - 1, n)
+    i = np.minimum(t.astype(int), len(x) - 2) if len(x) > 1 else np.zeros(n, int)
+    f = (t - i)[:, None] if len(x) > 1 else np.zeros((n, 1))
+    return x[i] * (1 - f) + x[np.minimum(i + 1, len(x) - 1)] * f
 
 
 @dataclass
@@ -110,30 +133,41 @@ class MotionClassifier(nn.Module):
 
 class WindowDataset(torch.utils.data.Dataset):
     """Random 32-frame windows of labelled motions (one window per clip per epoch); a `short` share of
-    them cut to SHORT_MIN–31 frames and padded by holding the last frame, as `score` pads a short motion."""
+    them cut to SHORT_MIN–31 frames and padded by holding the last frame, as `score` pads a short motion;
+    `augment` (an Augment) mirrors, replays faster or slower and adds noise."""
 
-    def __init__(self, motions, labels, seed: int = 0, length: int = WINDOW, short: float = 0.0):
+    def __init__(self, motions, labels, seed: int = 0, length: int = WINDOW, short: float = 0.0,
+                 augment: Augment | None = None):
         if len(motions) != len(labels) or not len(motions):
             raise ValueError(f"motions/labels: need the same non-zero number, got {len(motions)} and {len(labels)}")
         if not 0.0 <= short <= 1.0:
             raise ValueError(f"short: a share in [0, 1], got {short}")
+        self.augment = augment or Augment()
         self.inputs = [classifier_input(m).astype(np.float32) for m in motions]
+        self.mirrored = ([classifier_input(mirror_positions(np.asarray(m))).astype(np.float32) for m in motions]
+                         if self.augment.mirror else None)
         self.labels = [int(y) for y in labels]
         self.length, self.short, self.rng = length, short, np.random.default_rng(seed)
+        self.scale = self.stats()[1].numpy() if self.augment.noise else None
 
     def __len__(self):
         return len(self.inputs)
 
     def __getitem__(self, i):
-        x = self.inputs[i]
+        aug, rng = self.augment, self.rng
+        x = self.mirrored[i] if aug.mirror and rng.random() < aug.mirror else self.inputs[i]
+        if aug.tempo:
+            x = replay_at(x, float(np.exp(rng.uniform(-1, 1) * np.log1p(aug.tempo))))
         n = self.length
-        if self.short and self.rng.random() < self.short:
-            n = int(self.rng.integers(min(SHORT_MIN, self.length), self.length))
+        if self.short and rng.random() < self.short:
+            n = int(rng.integers(min(SHORT_MIN, self.length), self.length))
         if len(x) > n:
-            s = int(self.rng.integers(0, len(x) - n + 1))
+            s = int(rng.integers(0, len(x) - n + 1))
             x = x[s:s + n]
         w = windows_of(x, self.length)[0]
-        return torch.from_numpy(np.ascontiguousarray(w)), torch.tensor(self.labels[i])
+        if aug.noise:
+            w = w + aug.noise * self.scale * rng.standard_normal(w.shape)
+        return torch.from_numpy(np.ascontiguousarray(w, dtype=np.float32)), torch.tensor(self.labels[i])
 
     def stats(self) -> tuple[torch.Tensor, torch.Tensor]:
         """Per-dimension mean and std over all frames (stored in the classifier)."""
@@ -161,7 +195,7 @@ def _load_split(folder, split: str | None, label: str):
 
 def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, out=None,
                      device: str = "cpu", progress: bool = True, classes=None, resume=None,
-                     **overrides) -> tuple:
+                     augment: Augment | None = None, **overrides) -> tuple:
     """Train the content or style classifier on a dataset folder's train split; returns (model, history)."""
     from ..training import TrainConfig, fit
     if kind not in NAMES:
@@ -176,7 +210,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     unknown = sorted(set(train_y + val_y) - set(index))
     if unknown:
         raise ValueError(f"{folder}: labels {unknown} are not among the classes {classes}")
-    train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed, short=SHORT_SHARE)
+    train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed, short=SHORT_SHARE, augment=augment)
     val_set = WindowDataset(val_j, [index[y] for y in val_y], seed=seed + 1)
     torch.manual_seed(seed)
     model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes)), classes)

@@ -1,0 +1,104 @@
+"""Which training augmentation lets the built-in style evaluator recognise real styles: a search, chosen on real
+TRAIN takes only.
+
+    .venv/bin/python tools/evaluator_augment.py --real XIA_TRAIN_DIR [--grid XIA_GRID_DIR] [--only NAME,...]
+
+XIA_TRAIN_DIR and XIA_GRID_DIR are dataset folders made by `python -m data_prep.bvh … --labels xia`. Each
+candidate (CANDIDATES) trains the style evaluator on the built-in style corpus with the course preset, one
+`Augment` and perhaps a shorter schedule, then scores it on the built-in val and test clips and on every real
+train take (whole takes, window-averaged). Rule (RULE): the highest accuracy on the real train takes among
+candidates that keep the built-in val clips ≥ BUILTIN_FLOOR %, averaged over SEEDS. The grid's takes are
+scored for the record only — never read by the rule. Rows land in notebooks/data/00_evaluator_augment.json;
+rows already there are kept unless re-run.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from tools.common import DATA_DIR, current_commit, recorded_command, update_json  # noqa: E402
+
+OUT = DATA_DIR / "00_evaluator_augment.json"
+CANDIDATES = {  # name → (Augment fields, training overrides of the course preset)
+    "none": ({}, {}),
+    "mirror": ({"mirror": 0.5}, {}),
+    "tempo": ({"tempo": 0.25}, {}),
+    "noise": ({"noise": 0.1}, {}),
+    "mirror+tempo": ({"mirror": 0.5, "tempo": 0.25}, {}),
+    "all": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {}),
+    "shorter": ({}, {"steps": 400}),
+    "all+shorter": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {"steps": 400}),
+}
+SEEDS = (0, 1)
+BUILTIN_FLOOR = 95.0
+RULE = (f"the highest mean accuracy on the real TRAIN takes over seeds {list(SEEDS)}, among candidates whose "
+        f"built-in val accuracy stays ≥ {BUILTIN_FLOOR:g} %")
+
+
+def take_accuracy(model, clips) -> float:
+    """Top-1 accuracy (%) of whole takes (window-averaged logits) with a style the model knows."""
+    import numpy as np
+    clips = [(r, j) for r, j in clips if r["style"] in model.classes]
+    logits, _ = model.score([j for _, j in clips])
+    pred = np.array(model.classes)[logits.argmax(1)]
+    return round(100.0 * float(np.mean(pred == np.array([r["style"] for r, _ in clips]))), 2)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--real", required=True, help="the real train split, a dataset folder (fitting and choosing)")
+    ap.add_argument("--grid", help="the real test grid, a dataset folder (reported only, never chosen on)")
+    ap.add_argument("--only", default=",".join(CANDIDATES), help=f"comma-separated, of: {', '.join(CANDIDATES)}")
+    args = ap.parse_args(argv)
+    todo = args.only.split(",")
+    unknown = [n for n in todo if n not in CANDIDATES]
+    if unknown:
+        ap.error(f"--only: unknown candidate {unknown[0]!r}; expected some of {', '.join(CANDIDATES)}")
+    import torch
+    from mslib.data.corpora import load_builtin
+    from mslib.evaluation.evaluator import Augment, test_accuracy, train_classifier
+    from mslib.evaluation.realism import read_clips
+    torch.set_num_threads(1)
+    style = load_builtin(progress=False)["style"]
+    real = read_clips(args.real, "--real")
+    grid = read_clips(args.grid, "--grid") if args.grid else None
+    command, commit = recorded_command("evaluator_augment", argv if argv is not None else sys.argv[1:]), current_commit()
+    for name in todo:
+        for seed in SEEDS:
+            t0 = time.time()
+            fields, overrides = CANDIDATES[name]
+            model, _ = train_classifier("style", style, seed=seed, progress=False, augment=Augment(**fields),
+                                        **overrides)
+            row = {"candidate": name, "augment": fields, "overrides": overrides, "seed": seed,
+                   "builtin_val": round(test_accuracy(model, style, "val"), 2),
+                   "builtin_test": round(test_accuracy(model, style, "test"), 2),
+                   "real_train_takes": take_accuracy(model, real),
+                   "grid_takes": take_accuracy(model, grid) if grid else None,
+                   "seconds": round(time.time() - t0, 1), "command": command, "commit": commit}
+            print(json.dumps(row), flush=True)
+            old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
+            keep = [r for r in old if (r["candidate"], r["seed"]) != (name, seed)]
+            update_json(OUT, {"rows": keep + [row]})
+    rows = json.loads(OUT.read_text())["rows"]
+    summary = {}
+    for name in CANDIDATES:
+        mine = [r for r in rows if r["candidate"] == name and r["seed"] in SEEDS]
+        if len(mine) == len(SEEDS):
+            mean = lambda k: round(sum(r[k] for r in mine) / len(mine), 2)  # noqa: E731
+            summary[name] = {k: mean(k) for k in ("builtin_val", "builtin_test", "real_train_takes")}
+            if all(r["grid_takes"] is not None for r in mine):
+                summary[name]["grid_takes"] = mean("grid_takes")
+    ok = {n: s for n, s in summary.items() if s["builtin_val"] >= BUILTIN_FLOOR}
+    best = max(ok, key=lambda n: ok[n]["real_train_takes"]) if ok else None
+    update_json(OUT, {"summary": summary, "rule": RULE, "chosen": best})
+    for n, s in summary.items():
+        print(f"{n:14s} " + "  ".join(f"{k} {v:6.2f}" for k, v in s.items()) + ("  ← chosen" if n == best else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
