@@ -212,7 +212,8 @@ viz.MotionViewer([demo_c["joints"], demo_s["joints"], demo_out], titles=["conten
 # **How much style?** C Fig. 10–11 mix two style codes. With the target's *own* code as one end, the mix is a
 # style strength: $G\big(E_c(M^T) \,|\, E_s(M^T) + w\,(E_s(M^S) - E_s(M^T))\big)$, where $w = 1$ is C's
 # transfer, $w = 0$ gives the target back in its own style and $w > 1$ pushes past the style clip's code.
-# The sweep below scored the course model at each $w$ on 200 *validation* pairs
+# The sweep below scored an earlier course model, on an earlier version of the built-in corpora, at each $w$
+# on 200 *validation* pairs
 # (`tools/contrastive_findings.py strength`). This notebook's one table of findings:
 
 # %%
@@ -234,7 +235,7 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
 # runs trained **jointly**, as C does, without the course preset's departures, so that only C's terms shape
-# the style codes. They take about ten CPU minutes, too long for a notebook, so they were made once by
+# the style codes. They take several CPU minutes, too long for a notebook, so they were made once by
 # `python tools/contrastive_analysis.py`, which writes `notebooks/data/03_contrastive_findings.json`
 # (silhouettes and the t-SNE points of held-out style codes). Style labels are read only to colour and score
 # the codes, never in training.

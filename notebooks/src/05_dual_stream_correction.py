@@ -207,10 +207,11 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ, fastest in the lower half, while SRA holds for a light correction and
+# table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA holds for a light correction and
 # then falls — a light correction makes the content easier to read at no cost in style, a full one smooths part
 # of the style away. Jitter falls
-# all the way; foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
+# all the way; foot sliding (FSF) falls until a strong correction and rises again at full strength, so
+# smoother is not the same as better planted.
 
 # %%
 st = ablation["strength"]
@@ -287,7 +288,7 @@ print("agfu matches the DSDN's fusion")
 
 # %% [nbgrader solution id=ex05_predict_kappa]
 ### BEGIN SOLUTION
-prediction = "further"
+prediction = "closer"
 offset = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
           for k in (model.cfg.correction_strength, 1.0)}
 ### END SOLUTION

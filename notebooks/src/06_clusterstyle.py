@@ -404,8 +404,8 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
       f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
-# **D Table 3's direction shows here, within noise**: in these short runs the prototype head gives the adapter
-# a little more style, but the SRA difference above is within two standard errors. The heads differ more in content (CRA), but one
+# **D Table 3's direction does not show here**: in these short runs the classification head gives the adapter
+# more style, though the SRA difference above is within two standard errors. The heads differ in content (CRA) too, but one
 # short run per head cannot say which keeps more of it: retraining the same recipe with another seed moves a
 # score by as much (appendix 08 shows the seed spreads). What the prototypes do buy is §7's steering: the outputs land nearest the prototype used far more
 # often than chance, and on top of seed variation they add diversity in most transfer examples (the
