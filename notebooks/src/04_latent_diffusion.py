@@ -423,7 +423,7 @@ for claim, result in claims.items():
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
 # every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
-# to 5, SRA still rises but CRA falls faster, so H drops — and H, which needs both, picked the
+# to 5, SRA still rises but CRA falls to a far lower level, so H, which needs both, drops — and H, which needs both, picked the
 # course preset's λ below B's 2.5 on validation pairs.
 
 # %% [markdown]

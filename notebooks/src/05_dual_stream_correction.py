@@ -3,7 +3,7 @@
 #
 # Notebook 02 ended with transfers that carry noise: frames that shake (*dynamic* noise) and poses
 # pulled away from the content (*static* noise). Paper A's second stage, the **Dual-Stream Denoising
-# Network** (DSDN), learns to remove both: a recurrent stream for what changes over time, a
+# Network** (DSDN), is built to remove both: a recurrent stream for what changes over time, a
 # convolutional autoencoder for the pose, and a small gate that decides, frame by frame, how much of
 # each to trust (A §3.3).
 #
@@ -238,7 +238,8 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
       f"jitter {jit['adain+dsdn'] - jit['adain']:+.2f} m/s², H {r['adain+dsdn']['h'] - r['adain']['h']:+.3f}")
 
 # %% [markdown]
-# Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
+# Stage 2 makes the transfers smoother and their mean foot slide smaller (the last line above), though a larger
+# share of frames skates past the FSR threshold (the fsr column). At the course κ it
 # raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
 # read at a small cost in style. Pushed harder, it loses more style than it gains content: in the table of section 8, from the
 # course κ to κ = 1 SRA falls faster than CRA rises, and H drops — though even at full strength H stays

@@ -179,8 +179,8 @@ for c, s in enumerate(STYLES):
 
 # %% [markdown]
 # Read the table row by row: a clean discovery puts each row's clips in one column, a different column
-# per row. No style does that here. A few rows lean towards one column (angry's and proud's
-# shoulders-down), but most spread over all three. The purity line says the same: on the training clips
+# per row. No style does that here. A few rows lean towards one column (neutral's quick-steps,
+# angry's bouncy, proud's shoulders-down), but most spread over all three. The purity line says the same: on the training clips
 # the matching scores barely above shuffled labels (the test score is higher, on far fewer clips per
 # style). The clustering has no labels, and whatever varies most within a style's features (tempo,
 # content, a sub-style) is what its prototypes separate — here, mostly not the named sub-styles.

@@ -4,8 +4,8 @@
 # Notebooks 02–07 each teach one method. This appendix gathers, in one place, every claim of the four
 # papers that the workbook tests: what the paper says, what the course models show on the **built-in**
 # benchmark and — where it can be measured — on **real** motion capture, a verdict, one paragraph on what
-# it means, and the command that reproduced the number. Nothing here is trained or sampled: every number
-# is read from the tables the tools of `tools/` stored in `notebooks/data/` (each row names the commit and
+# it means, and the command that reproduced the number. Nothing here is trained: every number but A Fig. 2's
+# (recomputed live with the packaged stage 1, which is fast) is read from the tables the tools of `tools/` stored in `notebooks/data/` (each row names the commit and
 # the checkpoints that made it), and every verdict is computed from them by the rule printed beside it.
 #
 # **How to read a verdict.** *holds* — the direction the paper reports shows up here; *does not hold* —
