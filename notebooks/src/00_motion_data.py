@@ -147,7 +147,7 @@ for p, name in zip(paths, ("walk", "turn_walk", "side_step", "run")):
 # - **style corpus**: eight styles × five Xia contents, recorded as BVH takes on another skeleton at
 #   30 fps, registered onto the template (notebook 01) and cut into 32-frame windows.
 #
-# Both are built once (about half a minute) and cached on disk.
+# Both are built once and cached on disk.
 
 # %%
 from mslib.data.corpora import load_builtin
@@ -221,10 +221,11 @@ print(format_cross_scores(realism))
 # and kicks less often (the *by content* line). Those cells were fitted to a handful of real windows
 # each, and the per-joint layer can only match where a style's windows fall on average, not how the
 # cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
-# at where windows fall among the real styles, not at these cues, and several built-in walkers are now
-# jerkier than the real ones (the jerk panel), the old one taking shorter and slower steps than the
-# real old walker (stride, speed). The other direction still fails: the evaluator trained on
-# built-in clips recognises well under half of the real test takes. The built-in styles now sit where
+# at where windows fall among the real styles, not at these cues, and every built-in walker is now
+# jerkier than its real counterpart (the jerk panel), the old one taking shorter and slower steps than the
+# real old walker (stride, speed). The other direction is weaker: the evaluator trained on
+# built-in clips recognises the real test takes less often than the real judge reads built-in windows, and
+# reads no real sexy take as sexy. The built-in styles now sit where
 # the real ones do in the space a linear judge reads, yet a classifier trained on built-in clips alone
 # still learns cues of the generator that real takes do not share. That is why the benchmark of
 # notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained on real takes.

@@ -175,7 +175,7 @@ _ = fig
 # %% [markdown]
 # Once the decoder must also match the style's statistics, $\mathcal{L}_{style}$ falls, on the training
 # batches and on validation alike (the last line above). $\mathcal{L}_{content}$ does not fall with it: the
-# line before shows it giving a little back on the training batches and barely moving on validation. The two
+# line before shows it giving a little back, on the training batches and on validation alike. The two
 # terms pull against each other, which is why A weighs them with $\lambda$s.
 
 # %% [markdown]
@@ -212,7 +212,8 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
 # between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
-# in some rows it stays near the content's, in others it rises above both the content's and the clip's.
+# in every row the output's head sits higher than both the content's and the clip's, even where the clip's head
+# is lower than the content's.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
@@ -319,7 +320,7 @@ print("of the two halves, more jitter:", max(halves, key=lambda n: np.mean(fig2[
 # more than the content too, and variance-only moves the pose a little. σ sets how far each channel swings
 # over time, so a wrong σ shows up as motion that shakes; μ sets where each channel sits, so a wrong μ shows
 # up as a pose held in the wrong place. The full transfer carries both kinds of noise — in the table it has
-# the most jitter and the largest pose offset — what stage 2 (notebook 05) learns to remove.
+# the most jitter and the largest pose offset — what stage 2 (notebook 05) sets out to remove.
 #
 # ## 7. On the benchmark
 # The same 200 held-out pairs every method meets (notebook 07), scored by the independent evaluator:

@@ -212,7 +212,8 @@ viz.MotionViewer([demo_c["joints"], demo_s["joints"], demo_out], titles=["conten
 # **How much style?** C Fig. 10–11 mix two style codes. With the target's *own* code as one end, the mix is a
 # style strength: $G\big(E_c(M^T) \,|\, E_s(M^T) + w\,(E_s(M^S) - E_s(M^T))\big)$, where $w = 1$ is C's
 # transfer, $w = 0$ gives the target back in its own style and $w > 1$ pushes past the style clip's code.
-# The sweep below scored the course model at each $w$ on 200 *validation* pairs
+# The sweep below scored an earlier course model, on an earlier version of the built-in corpora, at each $w$
+# on 200 *validation* pairs
 # (`tools/contrastive_findings.py strength`). This notebook's one table of findings:
 
 # %%
@@ -234,7 +235,7 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
 # runs trained **jointly**, as C does, without the course preset's departures, so that only C's terms shape
-# the style codes. They take about ten CPU minutes, too long for a notebook, so they were made once by
+# the style codes. They take several CPU minutes, too long for a notebook, so they were made once by
 # `python tools/contrastive_analysis.py`, which writes `notebooks/data/03_contrastive_findings.json`
 # (silhouettes and the t-SNE points of held-out style codes). Style labels are read only to colour and score
 # the codes, never in training.
@@ -325,7 +326,7 @@ for w in (0.0, 0.5, 1.0):
 rows = [run_bench(m, seed=0, n_pairs=200, pairs=pairs, evaluator=evaluator) for m in ("identity", "copy_style", "contrastive")]
 print(format_table(rows, notebook=True))
 h = {r["method"]: r["h"] for r in rows}
-print("bar met (H ≥ 0.65 and above both references):",
+print(f"contrastive H {h['contrastive']:.3f}; bar met (H ≥ 0.65 and above both references):",
       bool(h["contrastive"] >= 0.65 and h["contrastive"] > max(h["identity"], h["copy_style"])))
 outs_all = [np.asarray(decode(model.transfer_features(c["features"], s["features"]))) for c, s in pairs]
 pred = np.array(evaluator.content.classes)[evaluator.score(outs_all)[0].argmax(1)]

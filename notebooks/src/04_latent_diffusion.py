@@ -234,7 +234,7 @@ _ = fig
 # %% [markdown]
 # The course checkpoints were trained the same way, on every training clip of both corpora
 # (two views per clip), for much longer: `python -m mslib train style_extractor --preset course --seed 0`,
-# then `python -m mslib train mcm_ldm --preset course --seed 0` (a quarter of an hour on one core).
+# then `python -m mslib train mcm_ldm --preset course --seed 0` (some minutes on one core).
 # The ablation runs of §8 are shorter (their step count is printed there, the course model's just below),
 # so compare them with each other, not with the course model.
 
@@ -423,7 +423,7 @@ for claim, result in claims.items():
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
 # every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
-# to 5, SRA gains only a few points while CRA keeps falling, so H drops — and H, which needs both, picked the
+# to 5, SRA still rises but CRA falls to a far lower level, so H, which needs both, drops — and H, which needs both, picked the
 # course preset's λ below B's 2.5 on validation pairs.
 
 # %% [markdown]

@@ -3,7 +3,7 @@
 #
 # Notebook 02 ended with transfers that carry noise: frames that shake (*dynamic* noise) and poses
 # pulled away from the content (*static* noise). Paper A's second stage, the **Dual-Stream Denoising
-# Network** (DSDN), learns to remove both: a recurrent stream for what changes over time, a
+# Network** (DSDN), is built to remove both: a recurrent stream for what changes over time, a
 # convolutional autoencoder for the pose, and a small gate that decides, frame by frame, how much of
 # each to trust (A §3.3).
 #
@@ -207,10 +207,11 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ, fastest in the lower half, while SRA holds for a light correction and
+# table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA holds for a light correction and
 # then falls — a light correction makes the content easier to read at no cost in style, a full one smooths part
 # of the style away. Jitter falls
-# all the way; foot sliding (FSF) only for a light correction, so smoother is not the same as better planted.
+# all the way; foot sliding (FSF) falls until a strong correction and rises again at full strength, so
+# smoother is not the same as better planted.
 
 # %%
 st = ablation["strength"]
@@ -237,7 +238,8 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
       f"jitter {jit['adain+dsdn'] - jit['adain']:+.2f} m/s², H {r['adain+dsdn']['h'] - r['adain']['h']:+.3f}")
 
 # %% [markdown]
-# Stage 2 makes the transfers smoother and their feet slide less (the last line above). At the course κ it
+# Stage 2 makes the transfers smoother and their mean foot slide smaller (the last line above), though a larger
+# share of frames skates past the FSR threshold (the fsr column). At the course κ it
 # raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
 # read at a small cost in style. Pushed harder, it loses more style than it gains content: in the table of section 8, from the
 # course κ to κ = 1 SRA falls faster than CRA rises, and H drops — though even at full strength H stays
@@ -287,7 +289,7 @@ print("agfu matches the DSDN's fusion")
 
 # %% [nbgrader solution id=ex05_predict_kappa]
 ### BEGIN SOLUTION
-prediction = "further"
+prediction = "closer"
 offset = {k: pose_offset(decode(model.correct_features(demo_noisy, strength=k)), demo_c["joints"])
           for k in (model.cfg.correction_strength, 1.0)}
 ### END SOLUTION

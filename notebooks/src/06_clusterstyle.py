@@ -179,8 +179,8 @@ for c, s in enumerate(STYLES):
 
 # %% [markdown]
 # Read the table row by row: a clean discovery puts each row's clips in one column, a different column
-# per row. No style does that here. A few rows lean towards one column (angry's and proud's
-# shoulders-down), but most spread over all three. The purity line says the same: on the training clips
+# per row. No style does that here. A few rows lean towards one column (neutral's quick-steps,
+# angry's bouncy, proud's shoulders-down), but most spread over all three. The purity line says the same: on the training clips
 # the matching scores barely above shuffled labels (the test score is higher, on far fewer clips per
 # style). The clustering has no labels, and whatever varies most within a style's features (tempo,
 # content, a sub-style) is what its prototypes separate — here, mostly not the named sub-styles.
@@ -404,8 +404,8 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
       f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
-# **D Table 3's direction shows here, within noise**: in these short runs the prototype head gives the adapter
-# a little more style, but the SRA difference above is within two standard errors. The heads differ more in content (CRA), but one
+# **D Table 3's direction does not show here**: in these short runs the classification head gives the adapter
+# more style, though the SRA difference above is within two standard errors. The heads differ in content (CRA) too, but one
 # short run per head cannot say which keeps more of it: retraining the same recipe with another seed moves a
 # score by as much (appendix 08 shows the seed spreads). What the prototypes do buy is §7's steering: the outputs land nearest the prototype used far more
 # often than chance, and on top of seed variation they add diversity in most transfer examples (the

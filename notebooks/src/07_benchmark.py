@@ -69,7 +69,7 @@ print(format_table(rows, notebook=True))
 # all content and no style; copy_style is all style and no content — each gets half of the task, so
 # both have a low **H = 2·SRA·CRA/(SRA+CRA)**. A method transfers style only if it beats both on H.
 # TSI (metres) is how far the output's root path strays from the content's; FSF (cm per contact
-# frame) and FSR measure foot skating — natural motion does not score 0 on them (the published range of natural capture is about 0.5–1.7 cm/frame of FSF).
+# frame) and FSR measure foot skating — natural motion does not score 0 on them.
 
 # %%
 refs = max(by_name["identity"]["h"], by_name["copy_style"]["h"])
@@ -214,7 +214,7 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps more of the
-# real content but smooths part of the real style back out (its SRA is well below adain's), so by the real
+# real content but smooths part of the real style back out (its SRA is below adain's), so by the real
 # judge its H is lower than adain's — the reverse of the built-in table. That gap is the honest state of
 # the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
