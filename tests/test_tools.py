@@ -152,6 +152,21 @@ def test_adain_recipe_rule_adopts_only_a_clear_winner_and_keeps_a_better_package
 
 
 # ---------------------------------------------------------------- tools/realism_gap.py
+def test_evaluator_augment_adopts_only_a_gain_larger_than_the_seed_spread():
+    from tools.evaluator_augment import SEEDS, summarise
+    assert SEEDS == (0, 1)
+
+    def rows(name, real, val=100.0):
+        return [{"candidate": name, "seed": s, "builtin_val": val, "builtin_test": 100.0, "real_train_takes": r,
+                 "grid_takes": None} for s, r in zip(SEEDS, real)]
+    close = summarise(rows("none", (60, 62)) + rows("mirror", (62, 64)) + rows("all", (70, 72), val=90.0))
+    assert close["chosen"] == "mirror" and close["gain"] == 2 and close["spread"] == 2 and not close["adopted"]
+    assert "grid_takes" not in close["summary"]["none"]  # the grid is reported only when it was scored
+    clear = summarise(rows("none", (60, 62)) + rows("mirror", (70, 71)))
+    assert clear["chosen"] == "mirror" and clear["gain"] == 9.5 and clear["adopted"]
+    assert not summarise(rows("none", (60, 62)))["adopted"]  # nothing beats doing nothing
+
+
 def test_realism_gap_moves_each_cell_to_the_real_mean_and_only_what_it_names():
     import numpy as np
     from tools.realism_gap import GROUPS, columns, shifted

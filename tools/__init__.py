@@ -12,6 +12,7 @@
     real_bench             every method on real pairs (Xia grid styles, real contents), judged twice → 07_real_bench.json
     fit_styles             the generator's body and style means fitted to the Xia train split → mslib/data/fitted_styles.json
     fit_joint_moments      the generator's per-joint layer (offset, gain, variation per style × content) → mslib/data/fitted_joint_moments.json
+    evaluator_augment      training augmentations of the style evaluator, scored on real train takes → 00_evaluator_augment.json
     realism_gap            which feature groups, matched per style × content, close the real → built-in gap → 00_realism_gap.json
     build_notebooks        notebooks/src/*.py → executed notebooks/*.ipynb (the outputs nbval checks)
     release                the workbook as an nbgrader course (make release) and autograding (make grade)

@@ -2,6 +2,7 @@
 TRAIN takes only.
 
     .venv/bin/python tools/evaluator_augment.py --real XIA_TRAIN_DIR [--grid XIA_GRID_DIR] [--only NAME,...]
+    .venv/bin/python tools/evaluator_augment.py --summarise
 
 XIA_TRAIN_DIR and XIA_GRID_DIR are dataset folders made by `python -m data_prep.bvh … --labels xia`. Each
 candidate (CANDIDATES) trains the style evaluator on the built-in style corpus with the course preset, one
@@ -9,7 +10,7 @@ candidate (CANDIDATES) trains the style evaluator on the built-in style corpus w
 train take (whole takes, window-averaged). Rule (RULE): the highest accuracy on the real train takes among
 candidates that keep the built-in val clips ≥ BUILTIN_FLOOR %, averaged over SEEDS. The grid's takes are
 scored for the record only — never read by the rule. Rows land in notebooks/data/00_evaluator_augment.json;
-rows already there are kept unless re-run.
+rows already there are kept unless re-run; `--summarise` only re-reads them.
 """
 from __future__ import annotations
 
@@ -36,7 +37,8 @@ CANDIDATES = {  # name → (Augment fields, training overrides of the course pre
 SEEDS = (0, 1)
 BUILTIN_FLOOR = 95.0
 RULE = (f"the highest mean accuracy on the real TRAIN takes over seeds {list(SEEDS)}, among candidates whose "
-        f"built-in val accuracy stays ≥ {BUILTIN_FLOOR:g} %")
+        f"built-in val accuracy stays ≥ {BUILTIN_FLOOR:g} %; adopted for the packaged evaluator only if it beats "
+        f"'none' by more than the widest seed spread of any candidate (else the difference is seed luck)")
 
 
 def take_accuracy(model, clips) -> float:
@@ -48,16 +50,42 @@ def take_accuracy(model, clips) -> float:
     return round(100.0 * float(np.mean(pred == np.array([r["style"] for r, _ in clips]))), 2)
 
 
+def summarise(rows) -> dict:
+    """Per-candidate means over SEEDS, the candidate RULE chooses, and whether its gain beats the seed spread."""
+    summary, spread = {}, 0.0
+    for name in CANDIDATES:
+        mine = [r for r in rows if r["candidate"] == name and r["seed"] in SEEDS]
+        if len(mine) != len(SEEDS):
+            continue
+        mean = lambda k: round(sum(r[k] for r in mine) / len(mine), 2)  # noqa: E731
+        summary[name] = {k: mean(k) for k in ("builtin_val", "builtin_test", "real_train_takes")}
+        if all(r["grid_takes"] is not None for r in mine):
+            summary[name]["grid_takes"] = mean("grid_takes")
+        real = [r["real_train_takes"] for r in mine]
+        spread = max(spread, max(real) - min(real))
+    ok = {n: s for n, s in summary.items() if s["builtin_val"] >= BUILTIN_FLOOR}
+    best = max(ok, key=lambda n: ok[n]["real_train_takes"]) if ok else None
+    gain = round(ok[best]["real_train_takes"] - summary["none"]["real_train_takes"], 2) \
+        if best is not None and "none" in summary else None
+    return {"summary": summary, "chosen": best, "gain": gain, "spread": round(spread, 2),
+            "adopted": bool(best not in (None, "none") and gain is not None and gain > spread)}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--real", required=True, help="the real train split, a dataset folder (fitting and choosing)")
+    ap.add_argument("--real", help="the real train split, a dataset folder (fitting and choosing)")
     ap.add_argument("--grid", help="the real test grid, a dataset folder (reported only, never chosen on)")
     ap.add_argument("--only", default=",".join(CANDIDATES), help=f"comma-separated, of: {', '.join(CANDIDATES)}")
+    ap.add_argument("--summarise", action="store_true", help="train nothing: re-summarise the stored rows")
     args = ap.parse_args(argv)
-    todo = args.only.split(",")
+    todo = [] if args.summarise else args.only.split(",")
     unknown = [n for n in todo if n not in CANDIDATES]
     if unknown:
         ap.error(f"--only: unknown candidate {unknown[0]!r}; expected some of {', '.join(CANDIDATES)}")
+    if not todo:
+        return report()
+    if not args.real:
+        ap.error("--real: the real train split's dataset folder is needed to score the candidates")
     import torch
     from mslib.data.corpora import load_builtin
     from mslib.evaluation.evaluator import Augment, test_accuracy, train_classifier
@@ -83,20 +111,16 @@ def main(argv=None) -> int:
             old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
             keep = [r for r in old if (r["candidate"], r["seed"]) != (name, seed)]
             update_json(OUT, {"rows": keep + [row]})
-    rows = json.loads(OUT.read_text())["rows"]
-    summary = {}
-    for name in CANDIDATES:
-        mine = [r for r in rows if r["candidate"] == name and r["seed"] in SEEDS]
-        if len(mine) == len(SEEDS):
-            mean = lambda k: round(sum(r[k] for r in mine) / len(mine), 2)  # noqa: E731
-            summary[name] = {k: mean(k) for k in ("builtin_val", "builtin_test", "real_train_takes")}
-            if all(r["grid_takes"] is not None for r in mine):
-                summary[name]["grid_takes"] = mean("grid_takes")
-    ok = {n: s for n, s in summary.items() if s["builtin_val"] >= BUILTIN_FLOOR}
-    best = max(ok, key=lambda n: ok[n]["real_train_takes"]) if ok else None
-    update_json(OUT, {"summary": summary, "rule": RULE, "chosen": best})
-    for n, s in summary.items():
-        print(f"{n:14s} " + "  ".join(f"{k} {v:6.2f}" for k, v in s.items()) + ("  ← chosen" if n == best else ""))
+    return report()
+
+
+def report() -> int:
+    """Summarise the stored rows into OUT and print them."""
+    result = summarise(json.loads(OUT.read_text())["rows"])
+    update_json(OUT, {**result, "rule": RULE})
+    for n, s in result["summary"].items():
+        print(f"{n:14s} " + "  ".join(f"{k} {v:6.2f}" for k, v in s.items()) + ("  ← chosen" if n == result["chosen"] else ""))
+    print(f"adopted: {result['adopted']} (gain over 'none' {result['gain']}, widest seed spread {result['spread']})")
     return 0
 
 

@@ -7,7 +7,9 @@ logits, and its features (the penultimate layer, for FMD) by averaging theirs; a
 than a window is padded by holding its last frame. Real takes are often that short (most Xia takes
 last about a second), so in training a share of the windows (SHORT_SHARE) is cut shorter and padded
 the same way: otherwise the held frames are something the classifier never saw. No method trains
-on these classifiers or their features.
+on these classifiers or their features. `Augment` (mirror, tempo, noise) is there for the search of
+tools/evaluator_augment.py; the packaged classifiers train without it, since no augmentation recognised
+more real takes than a second training seed does.
 """
 from __future__ import annotations
 
