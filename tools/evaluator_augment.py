@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from tools.common import DATA_DIR, current_commit, recorded_command, update_json  # noqa: E402
+from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
 
 OUT = DATA_DIR / "00_evaluator_augment.json"
 CANDIDATES = {  # name → (Augment fields, training overrides of the course preset)
@@ -94,7 +94,9 @@ def main(argv=None) -> int:
     style = load_builtin(progress=False)["style"]
     real = read_clips(args.real, "--real")
     grid = read_clips(args.grid, "--grid") if args.grid else None
-    command, commit = recorded_command("evaluator_augment", argv if argv is not None else sys.argv[1:]), current_commit()
+    command = (f"python tools/evaluator_augment.py --real XIA_TRAIN_DIR{' --grid XIA_GRID_DIR' if grid else ''} "
+               f"--only {args.only}")  # the folders' names stay on this machine
+    commit = current_commit()
     for name in todo:
         for seed in SEEDS:
             t0 = time.time()
