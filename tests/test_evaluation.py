@@ -37,6 +37,7 @@ def test_replay_at_changes_the_tempo_and_keeps_the_path():
     for y in (fast, slow):  # the same straight path, end to end, at another speed
         assert y[0, 0] == 0 and y[-1, 0] == 40 and np.all(np.diff(y[:, 0]) > 0)
     np.testing.assert_allclose(E.replay_at(x, 1.0), x)
+    assert E.replay_at(x[:1], 0.5).shape == (2, 3)  # a single frame is held
 
 
 def test_augmented_windows_mirror_replay_and_add_noise():

@@ -63,10 +63,12 @@ class Augment:
 def replay_at(x: np.ndarray, speed: float) -> np.ndarray:
     """(T, D) → (≈T/speed, D): the sequence replayed `speed` times as fast (linear interpolation)."""
     n = max(2, int(round(len(x) / speed)))
+    if len(x) < 2:
+        return np.repeat(x, n, 0)
     t = np.linspace(0.0, len(x) - 1, n)
-    i = np.minimum(t.astype(int), len(x) - 2) if len(x) > 1 else np.zeros(n, int)
-    f = (t - i)[:, None] if len(x) > 1 else np.zeros((n, 1))
-    return x[i] * (1 - f) + x[np.minimum(i + 1, len(x) - 1)] * f
+    i = np.minimum(t.astype(int), len(x) - 2)
+    f = (t - i)[:, None]
+    return x[i] * (1 - f) + x[i + 1] * f
 
 
 @dataclass
