@@ -212,8 +212,8 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
 # between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
-# in every row the output's head sits higher than both the content's and the clip's, even where the clip's head
-# is lower than the content's.
+# in every row the output's head sits above the content's and no lower than the clip's, even where the clip's
+# head is lower than the content's.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)
@@ -243,7 +243,7 @@ _ = fig
 viz.MotionViewer([walk["joints"].numpy()] + [outputs[s] for s in shown], titles=["content"] + shown)
 
 # %% [markdown]
-# **The demo pair.** The pair notebooks 03–07 share, chosen by a rule fixed before any output was looked at: the
+# **The demo pair.** The pair notebooks 02–07 share, chosen by a rule fixed before any output was looked at: the
 # first benchmark test pair whose style clip is not neutral, is read as its own style by the evaluator, and has
 # another content than the content clip. Beside the strip, three style cues over time (head height, trunk pitch,
 # how far the left wrist leads the right, in leg lengths L): grey the content, orange the style clip, blue the
@@ -319,8 +319,8 @@ print("of the two halves, more jitter:", max(halves, key=lambda n: np.mean(fig2[
 # shifts the pose further from the content — the paper's split. Neither half is pure: mean-only shakes
 # more than the content too, and variance-only moves the pose a little. σ sets how far each channel swings
 # over time, so a wrong σ shows up as motion that shakes; μ sets where each channel sits, so a wrong μ shows
-# up as a pose held in the wrong place. The full transfer carries both kinds of noise — in the table it has
-# the most jitter and the largest pose offset — what stage 2 (notebook 05) sets out to remove.
+# up as a pose held in the wrong place. The full transfer carries both kinds of noise — in the table it shakes
+# as much as variance-only, the most of the three, and has the largest pose offset — what stage 2 (notebook 05) sets out to remove.
 #
 # ## 7. On the benchmark
 # The same 200 held-out pairs every method meets (notebook 07), scored by the independent evaluator:

@@ -207,10 +207,10 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA holds for a light correction and
-# then falls — a light correction makes the content easier to read at no cost in style, a full one smooths part
+# table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA barely moves for a light correction
+# and then falls — a light correction makes the content easier to read at almost no cost in style, a full one smooths part
 # of the style away. Jitter falls
-# all the way; foot sliding (FSF) falls until a strong correction and rises again at full strength, so
+# all the way; foot sliding (FSF) falls up to the course κ and rises again with any stronger correction, so
 # smoother is not the same as better planted.
 
 # %%

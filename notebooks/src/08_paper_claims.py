@@ -249,8 +249,8 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
 # checkpoints were retrained on the current corpora with the recipes they chose. A's seed search
-# also ran on an earlier version of the corpora (the packaged model keeps the seed it chose, retrained on the
-# current corpora), and so did B's. Read them as a lesson in noise: the same recipe, trained again with another
+# ran on the current corpora (its rule packaged the best seed's run); B's ran on an earlier version (the
+# packaged model keeps the seed it chose, retrained on the current corpora). Read them as a lesson in noise: the same recipe, trained again with another
 # seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
