@@ -41,15 +41,6 @@ RULE = (f"the highest mean accuracy on the real TRAIN takes over seeds {list(SEE
         f"'none' by more than the widest seed spread of any candidate (else the difference is seed luck)")
 
 
-def take_accuracy(model, clips) -> float:
-    """Top-1 accuracy (%) of whole takes (window-averaged logits) with a style the model knows."""
-    import numpy as np
-    clips = [(r, j) for r, j in clips if r["style"] in model.classes]
-    logits, _ = model.score([j for _, j in clips])
-    pred = np.array(model.classes)[logits.argmax(1)]
-    return round(100.0 * float(np.mean(pred == np.array([r["style"] for r, _ in clips]))), 2)
-
-
 def summarise(rows) -> dict:
     """Per-candidate means over SEEDS, the candidate RULE chooses, and whether its gain beats the seed spread."""
     summary, spread = {}, 0.0
@@ -89,7 +80,7 @@ def main(argv=None) -> int:
     import torch
     from mslib.data.corpora import load_builtin
     from mslib.evaluation.evaluator import Augment, test_accuracy, train_classifier
-    from mslib.evaluation.realism import read_clips
+    from mslib.evaluation.realism import read_clips, take_scores
     torch.set_num_threads(1)
     style = load_builtin(progress=False)["style"]
     real = read_clips(args.real, "--real")
@@ -106,8 +97,8 @@ def main(argv=None) -> int:
             row = {"candidate": name, "augment": fields, "overrides": overrides, "seed": seed,
                    "builtin_val": round(test_accuracy(model, style, "val"), 2),
                    "builtin_test": round(test_accuracy(model, style, "test"), 2),
-                   "real_train_takes": take_accuracy(model, real),
-                   "grid_takes": take_accuracy(model, grid) if grid else None,
+                   "real_train_takes": take_scores(model, real)["accuracy"],
+                   "grid_takes": take_scores(model, grid)["accuracy"] if grid else None,
                    "seconds": round(time.time() - t0, 1), "command": command, "commit": commit}
             print(json.dumps(row), flush=True)
             old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge

@@ -229,29 +229,30 @@ def by_content(true, pred, content) -> dict:
 
 
 # ---------------------------------------------------------------- 3. built-in → real
+def take_scores(model, clips) -> dict | None:
+    """`scores` of a style classifier on whole clips (window-averaged logits) with a style it knows; None if none."""
+    classes = list(model.classes)
+    clips = [(r, j) for r, j in clips if r["style"] in classes]
+    if not clips:
+        return None
+    logits, _ = model.score([j for _, j in clips])
+    return scores([r["style"] for r, _ in clips], np.array(classes)[logits.argmax(1)], classes)
+
+
 def builtin_to_real(test_clips, train_clips=None, builtin_folder=None, evaluator=None) -> dict:
     """The packaged style evaluator on real takes (whole and per 32-frame window); reference: built-in test."""
     from ..checkpoints import checkpoint_digest
     from .evaluator import load_classifier, test_accuracy
     model = evaluator or load_classifier("style")
-    classes = list(model.classes)
-
-    def whole(clips):
-        clips = [(r, j) for r, j in clips if r["style"] in classes]
-        if not clips:
-            return None
-        logits, _ = model.score([j for _, j in clips])
-        return scores([r["style"] for r, _ in clips], np.array(classes)[logits.argmax(1)], classes)
-
     out = {"model": "packaged evaluator_style (temporal conv net, trained on built-in data only)",
            "checkpoint": checkpoint_digest("evaluator_style") if evaluator is None else "given",
-           "classes": classes, "real_test_takes": whole(test_clips)}
+           "classes": list(model.classes), "real_test_takes": take_scores(model, test_clips)}
     ws = [(r, w) for r, j in test_clips for w in cut_windows(j, EVALUATOR_WINDOW, EVALUATOR_OVERLAP)]
-    out["real_test_windows"] = whole(ws) if ws else None
+    out["real_test_windows"] = take_scores(model, ws) if ws else None
     if out["real_test_windows"] is not None:
         out["real_test_windows"]["window_frames"] = EVALUATOR_WINDOW
     if train_clips is not None:
-        out["real_train_takes"] = whole(train_clips)
+        out["real_train_takes"] = take_scores(model, train_clips)
     if builtin_folder is not None:
         out["builtin_test_clips_accuracy"] = _round(test_accuracy(model, builtin_folder, "test"))
     return out
