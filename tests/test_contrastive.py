@@ -433,6 +433,15 @@ def test_seed_table_and_ceiling_refuse_other_recipes_repeated_seeds_and_missing_
     assert scored == []
 
 
+def test_seed_rule_picks_the_highest_h_at_the_course_strength():
+    tool = _findings_tool()
+    rows = [{"seed": 2, "strength": 1.0, "h": 0.60}, {"seed": 0, "strength": 1.0, "h": 0.65},
+            {"seed": 1, "strength": 1.0, "h": 0.62}, {"seed": 1, "strength": 1.2, "h": 0.70}]
+    assert tool.best_seed(rows, 1.0) == 0 and tool.best_seed(rows, 1.2) == 1
+    with pytest.raises(ValueError, match="no row at the course style strength 0.8"):
+        tool.best_seed(rows, 0.8)
+
+
 def test_recipe_variants_keep_the_schedule_they_were_compared_at():
     """The recipe rows reproduce whatever the course preset: every variant but `course` pins the schedule it was
     compared at, and every one compared before the preset took up `style_views` pins δ = 0 (the `plain` recipe)."""

@@ -118,6 +118,14 @@ def test_recorded_command_leaves_out_scratch_folders():
     assert common.recorded_command("t", []) == "python tools/t.py"
 
 
+def test_mcm_seed_search_trains_the_seeds_that_did_not_make_the_packaged_model():
+    from tools.mcm_ldm_ablations import seeds_to_train
+    assert seeds_to_train(1) == [0, 2] and seeds_to_train(0) == [1, 2] and seeds_to_train(7) == [0, 1, 2]
+    assert seeds_to_train(1, [3, 0]) == [3, 0]
+    with pytest.raises(ValueError, match="seed 1 made the packaged checkpoint"):
+        seeds_to_train(1, [0, 1])
+
+
 def test_current_commit(monkeypatch, tmp_path):
     commit = common.current_commit()
     assert commit == "unknown" or re.fullmatch(r"[0-9a-f]{7,40}", commit)

@@ -44,7 +44,7 @@ scored and measured the same way, for comparison (`ceiling LABEL=PATH` does it f
 saves it as `ceiling_LABEL`). `seeds` scores the packaged checkpoint beside the
 course recipe trained with the other seeds (`COURSE_RUN --seed N --out OUT`), at C's transfer (w = 1, as the
 recipe rows; also at the course style strength if that is not 1): how much of a difference between two
-recipes one training run's luck can make. With `--save` each writes its part of
+recipes one training run's luck can make, and which seed's run is packaged (SEED_RULE). With `--save` each writes its part of
 notebooks/data/03_contrastive_recipes.json, which notebook 03 reads, with the command and the commit that made
 it; `val --save` replaces the rows of the labels it scores (keeping the others, each row with its own command
 and commit). The findings (a)–(d) themselves: `python tools/contrastive_analysis.py`.
@@ -106,6 +106,14 @@ def rounded(row: dict) -> dict:
     return {k: round(float(v), 4) for k, v in row.items()}
 
 
+def best_seed(rows, strength: float) -> int:
+    """SEED_RULE: the seed of the row with the highest H among those at `strength`."""
+    at = [r for r in rows if r["strength"] == strength]
+    if not at:
+        raise ValueError(f"seeds: no row at the course style strength {strength}")
+    return max(at, key=lambda r: r["h"])["seed"]
+
+
 def score(model, pairs, evaluator, strength=None) -> dict:
     """Bench metrics on the pairs, plus the share of outputs classified as the style clip's content."""
     outs = [decode(model.transfer_features(c["features"], s["features"], strength)) for c, s in pairs]
@@ -117,6 +125,7 @@ def score(model, pairs, evaluator, strength=None) -> dict:
             "content_from_style_clip": 100.0 * float(leak)}
 
 
+SEED_RULE = "package the seed with the highest H on the val pairs at the course style strength"
 STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.4)
 STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) of the no-learning transfers; (0, 0): identity
 
@@ -273,7 +282,7 @@ def main(argv=None) -> int:
             models[seed] = model
             if ck is not None:
                 trained.append(f"{COURSE_RUN} --seed {seed} --out {Path(ck).name}")
-        rows = []
+        rows, packaged_seed = [], next(iter(models))
         for seed, model in models.items():
             for st in sorted({1.0, model.cfg.style_strength}):  # C's transfer (the recipe table's w) and the course w
                 rows.append({"seed": seed, "strength": st, **rounded(score(model, pairs, evaluator, st))})
@@ -281,7 +290,8 @@ def main(argv=None) -> int:
         if args.save:  # the command as a reader reruns it: train each seed, then score
             names = " ".join(Path(ck).name for ck in args.checkpoints)
             save({"seeds": {**_made(" && ".join([*trained, f"python tools/contrastive_findings.py seeds {names} --save"])),
-                            "rows": rows}})
+                            "rows": rows, "packaged_seed": packaged_seed, "rule": SEED_RULE,
+                            "best_seed": best_seed(rows, C.ContrastiveConfig.preset("course").style_strength)}})
         return 0
     if args.cmd == "styles":
         part = {**_made(_command(argv)), "transfers": styles(pairs, evaluator, args.checkpoints)}

@@ -9,9 +9,10 @@ Variants: full (short run, the reference for the switches), no_remover (use_remo
 λ ∈ {0, 1, 2.5, 5} (B's λ claim, on the benchmark pairs); choose: the packaged model at λ ∈ VAL_SCALES on
 200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H) — and then, at that λ,
 at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the fewest steps whose val H is within STEPS_TOLERANCE
-of the most steps'; fewer steps are proportionally faster), stored as the section "choose"; seeds: the course recipe trained again with other seeds (`--seeds 1,2`), each
-scored beside the packaged model (seed 0) on the same 200 val pairs at the course λ and steps — how the packaged
-seed is chosen (SEED_RULE), stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+of the most steps'; fewer steps are proportionally faster), stored as the section "choose"; seeds: the course
+recipe trained again with other seeds (`--seeds`; by default those of 0–2 that did not make the packaged model),
+each scored beside the packaged model (labelled by the seed it stores) on the same 200 val pairs at the course λ
+and steps — how the packaged seed is chosen (SEED_RULE), stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
 one name the commit that stored them.
 """
@@ -36,6 +37,7 @@ VAL_SCALES = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0)
 VAL_STEPS = (20, 30, 40, 50)
 STEPS_TOLERANCE = 0.01
 SEED_RULE = "package the seed with the highest H on 200 val pairs at the course λ and DDIM steps"
+DEFAULT_SEEDS = (0, 1, 2)
 METRICS = ("cra", "sra", "h", "tsi", "fsf", "fmd")
 
 
@@ -45,7 +47,8 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--only", default="full,no_remover,no_traj,scratch_style,sweep",
                     help="comma-separated: full, no_remover, no_traj, scratch_style, sweep, choose, seeds")
-    ap.add_argument("--seeds", default="1,2", help="seeds section: the seeds to train besides the packaged one")
+    ap.add_argument("--seeds", default=None,
+                    help="seeds section: comma-separated seeds to train besides the packaged one's (default: the rest of 0,1,2)")
     ap.add_argument("--workdir", default="/tmp/mcm_ldm_ablations")
     args = ap.parse_args(argv)
     from mslib.checkpoints import checkpoint_digest
@@ -105,8 +108,8 @@ def main(argv=None) -> int:
                                      "val_pairs": 200, "checkpoint": checkpoint_digest("mcm_ldm"),
                                      "command": command, "commit": commit}})
     if "seeds" in todo:
-        update_json(OUT, {"seeds": seed_rows(P, paths, [int(x) for x in args.seeds.split(",")], Path(args.workdir),
-                                             ev, command, commit)})
+        seeds = None if args.seeds is None else [int(x) for x in args.seeds.split(",")]
+        update_json(OUT, {"seeds": seed_rows(P, paths, seeds, Path(args.workdir), ev, command, commit)})
     if set(todo) <= {"choose", "seeds"}:
         return 0
     old = json.loads(OUT.read_text())["rows"] if OUT.is_file() else []  # re-read: parallel runs merge
@@ -127,9 +130,17 @@ def scored(tr, pairs, ev, **knob) -> dict:
     return {k: round(r[k], 4) for k in METRICS}
 
 
+def seeds_to_train(packaged_seed: int, seeds=None) -> list:
+    """The seeds the seeds section trains: `seeds`, or by default DEFAULT_SEEDS but the packaged model's."""
+    seeds = [s for s in DEFAULT_SEEDS if s != packaged_seed] if seeds is None else list(seeds)
+    if packaged_seed in seeds:
+        raise ValueError(f"--seeds: seed {packaged_seed} made the packaged checkpoint (scored as it is); name others")
+    return seeds
+
+
 def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> dict:
     """The packaged model and the course recipe at other seeds, scored on val pairs at the course λ and steps."""
-    from mslib.checkpoints import checkpoint_digest
+    from mslib.checkpoints import checkpoint_digest, course_path, read_checkpoint
     from mslib.data.corpora import source_fingerprint
     vpairs, corpus = val_pairs(200), source_fingerprint()
 
@@ -137,8 +148,10 @@ def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> 
         row = {"seed": seed, **scored(tr, vpairs, ev), "corpus": corpus, "commit": commit, **extra}
         print(json.dumps(row), flush=True)
         return row
+    packaged_seed = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["extra"]["train_config"]["seed"]
+    seeds = seeds_to_train(packaged_seed, seeds)
     packaged = P.load_mcm_ldm()
-    rows = {0: val_h(packaged, 0, checkpoint=checkpoint_digest("mcm_ldm"))}
+    rows = {packaged_seed: val_h(packaged, packaged_seed, checkpoint=checkpoint_digest("mcm_ldm"))}
     prepared = P.prepare(paths["content"], paths["style"], windows=True) if seeds else None
     for seed in seeds:
         out = workdir / f"seed{seed}.pt"

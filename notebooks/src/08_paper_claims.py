@@ -23,6 +23,7 @@ mslib.setup_notebook(seed=0)
 
 import numpy as np
 
+from mslib.checkpoints import course_path, read_checkpoint
 from mslib.notebook import load_findings, readable_command
 
 bench = {r["method"]: r for r in load_findings("07_bench")["builtin"]["rows"]}
@@ -248,10 +249,9 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
-# checkpoints were retrained on the current corpora with the recipes they chose. A's seed search
-# ran on the current corpora (its rule packaged the best seed's run); B's ran on an earlier version (the
-# packaged model keeps the seed it chose, retrained on the current corpora). Read them as a lesson in noise: the same recipe, trained again with another
-# seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
+# checkpoints were retrained on the current corpora with the recipes they chose. A's and B's seed searches
+# ran on the current corpora, and each rule packaged its best seed's run. Read them as a lesson in noise: the
+# same recipe, trained again with another seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
 
@@ -274,8 +274,9 @@ print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in ar["rows"]
 bs = load_findings("04_ablations")["seeds"]
 print(f"B, the course recipe at other seeds (tools/mcm_ldm_ablations.py --only seeds; val H at λ = {bs['scale']:g}, "
       f"{bs['ddim_steps']} DDIM steps):")
-print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" + (" (packaged)" if "checkpoint" in r else "")
-                       for r in bs["rows"]) + f"  | best: seed {bs['best_seed']}")
+packaged_seed = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["extra"]["train_config"]["seed"]
+print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in bs["rows"])
+      + f"  | best: seed {bs['best_seed']}; the packaged model: seed {packaged_seed}")
 rec = load_findings("03_contrastive_recipes")
 print(f"\nC, the course recipe's candidates (tools/contrastive_findings.py val; H on {rec['val_pairs']} val pairs, "
       "older corpora — each row names its commit):")

@@ -43,7 +43,7 @@ real capture, where stronger guidance copies more of the style clip's action (`t
     cond = model.conditions(z_content, style, traj, traj_mask)   # once per clip
     eps = model.denoise(z_t, t, cond)                              # (B, N, d)
     z0 = model.sample(cond, null_style, (B, N, d))                 # DDIM with CFG
-Train: `python -m mslib train style_extractor …`, then `python -m mslib train mcm_ldm --preset course --seed 0`
+Train: `python -m mslib train style_extractor …`, then `python -m mslib train mcm_ldm --preset course --seed 1`
 (the VAE first: `python -m mslib train vae …`).
 """
 from __future__ import annotations
