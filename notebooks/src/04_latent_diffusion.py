@@ -423,9 +423,9 @@ for claim, result in claims.items():
 # scratch by the diffusion loss alone: with nothing pulling its codes toward style captions, it is free to
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
-# every switch costs something. B's λ sweep also has a turn the table shows: from λ = 2.5
-# to 5, SRA still rises but CRA falls to a far lower level, so H, which needs both, drops — and H, which needs both, picked the
-# course preset's λ below B's 2.5 on validation pairs.
+# every switch costs something. B's λ sweep also has a turn the table shows: as λ grows, SRA keeps rising
+# while CRA keeps falling, so H, which needs both, first rises and then drops; its peak lies inside the swept
+# range (notebook 08 names where). On validation pairs, H picked the course preset's λ below B's 2.5.
 
 # %% [markdown]
 # ## 9. On the benchmark

@@ -249,8 +249,8 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
-# checkpoints were retrained on the current corpora with the recipes they chose. A's and B's seed searches
-# ran on the current corpora, and each rule packaged its best seed's run. Read them as a lesson in noise: the
+# checkpoints were retrained on the current corpora with the recipes they chose. The seed searches of A, B
+# and C ran on the current corpora, and each rule packaged its best seed's run. Read them as a lesson in noise: the
 # same recipe, trained again with another seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
@@ -278,6 +278,11 @@ packaged_seed = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["extra"]["tra
 print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in bs["rows"])
       + f"  | best: seed {bs['best_seed']}; the packaged model: seed {packaged_seed}")
 rec = load_findings("03_contrastive_recipes")
+cseeds = rec["seeds"]
+print("C, the course recipe at other seeds (tools/contrastive_findings.py seeds; val H at w = 1):")
+print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in sorted(cseeds["rows"], key=lambda r: r["seed"])
+                       if r["strength"] == 1.0)
+      + f"  | best: seed {cseeds['best_seed']}; the packaged model: seed {cseeds['packaged_seed']}")
 print(f"\nC, the course recipe's candidates (tools/contrastive_findings.py val; H on {rec['val_pairs']} val pairs, "
       "older corpora — each row names its commit):")
 for r in sorted(rec["rows"], key=lambda r: -r["h"])[:8]:
