@@ -408,9 +408,9 @@ def test_seed_table_and_ceiling_refuse_other_recipes_repeated_seeds_and_missing_
     """`contrastive_findings.py seeds` (and `ceiling`) check every checkpoint before they score any."""
     from dataclasses import asdict
 
-    from mslib.checkpoints import read_checkpoint, save_checkpoint
+    from mslib.checkpoints import save_checkpoint, trained_seed
     tool = _findings_tool()
-    packaged_seed = read_checkpoint(course_path(C.NAME), C.NAME)["extra"]["train_config"]["seed"] - 1
+    packaged_seed = trained_seed(course_path(C.NAME), C.NAME) - 1
     scored = []
     monkeypatch.setattr(tool, "score", lambda *a, **k: scored.append(a) or {})
     course = C.ContrastiveConfig.preset("course")

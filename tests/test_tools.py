@@ -213,10 +213,10 @@ def test_train_all_plans_every_checkpoint_after_what_it_reads():
 
 def test_train_all_seeds_are_the_packaged_checkpoints():
     """The table's seeds made the packaged checkpoints (a two-phase model stores its second phase's, +1)."""
-    from mslib.checkpoints import course_path, read_checkpoint
+    from mslib.checkpoints import course_path, trained_seed
     from tools import train_all as T
     for name, (seed, _, _) in T.COURSE.items():
-        stored = read_checkpoint(course_path(name), name)["extra"]["train_config"]["seed"]
+        stored = trained_seed(course_path(name), name)
         assert stored == seed + (name in T.TWO_PHASE), (name, stored, seed)
 
 

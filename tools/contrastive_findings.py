@@ -61,7 +61,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tools.common import DATA_DIR, ROOT, current_commit, score_outputs, update_json, val_pairs  # noqa: E402
 
-from mslib.checkpoints import course_path, read_checkpoint  # noqa: E402
+from mslib.checkpoints import course_path, trained_seed  # noqa: E402
 from mslib.data.corpora import load_builtin, take_of  # noqa: E402
 from mslib.evaluation.bench import Evaluator, by_style  # noqa: E402
 from mslib.evaluation.embedding import nearest_neighbour_purity  # noqa: E402
@@ -276,13 +276,13 @@ def main(argv=None) -> int:
             model = C.load(ck)
             if model.cfg != C.ContrastiveConfig.preset("course"):
                 raise SystemExit(f"checkpoint {ck or 'packaged'}: not trained with the course preset")
-            seed = read_checkpoint(ck or course_path(C.NAME), C.NAME)["extra"]["train_config"]["seed"] - 1  # phase 2: seed + 1
+            seed = trained_seed(ck or course_path(C.NAME), C.NAME) - 1  # phase 2: seed + 1
             if seed in models:
                 raise SystemExit(f"checkpoint {ck}: seed {seed} twice")
             models[seed] = model
             if ck is not None:
                 trained.append(f"{COURSE_RUN} --seed {seed} --out {Path(ck).name}")
-        rows, packaged_seed = [], next(iter(models))
+        rows, packaged_seed = [], next(iter(models))  # the packaged checkpoint is read (and scored) first
         for seed, model in models.items():
             for st in sorted({1.0, model.cfg.style_strength}):  # C's transfer (the recipe table's w) and the course w
                 rows.append({"seed": seed, "strength": st, **rounded(score(model, pairs, evaluator, st))})

@@ -140,7 +140,7 @@ def seeds_to_train(packaged_seed: int, seeds=None) -> list:
 
 def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> dict:
     """The packaged model and the course recipe at other seeds, scored on val pairs at the course λ and steps."""
-    from mslib.checkpoints import checkpoint_digest, course_path, read_checkpoint
+    from mslib.checkpoints import checkpoint_digest, course_path, trained_seed
     from mslib.data.corpora import source_fingerprint
     vpairs, corpus = val_pairs(200), source_fingerprint()
 
@@ -148,7 +148,7 @@ def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> 
         row = {"seed": seed, **scored(tr, vpairs, ev), "corpus": corpus, "commit": commit, **extra}
         print(json.dumps(row), flush=True)
         return row
-    packaged_seed = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["extra"]["train_config"]["seed"]
+    packaged_seed = trained_seed(course_path("mcm_ldm"), "mcm_ldm")
     seeds = seeds_to_train(packaged_seed, seeds)
     packaged = P.load_mcm_ldm()
     rows = {packaged_seed: val_h(packaged, packaged_seed, checkpoint=checkpoint_digest("mcm_ldm"))}

@@ -62,6 +62,11 @@ def read_checkpoint(path, model_name: str | None = None) -> dict:
     return blob
 
 
+def trained_seed(path, model_name: str | None = None) -> int:
+    """The seed a checkpoint's training run stored (a two-phase recipe stores its second phase's, seed + 1)."""
+    return int(read_checkpoint(path, model_name)["extra"]["train_config"]["seed"])
+
+
 def load_state(path, model: torch.nn.Module, model_name: str | None = None) -> dict:
     """Load a checkpoint's weights into `model` after checking names and shapes; returns the blob."""
     blob = read_checkpoint(path, model_name)

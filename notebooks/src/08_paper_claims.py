@@ -23,7 +23,7 @@ mslib.setup_notebook(seed=0)
 
 import numpy as np
 
-from mslib.checkpoints import course_path, read_checkpoint
+from mslib.checkpoints import course_path, trained_seed
 from mslib.notebook import load_findings, readable_command
 
 bench = {r["method"]: r for r in load_findings("07_bench")["builtin"]["rows"]}
@@ -274,7 +274,7 @@ print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in ar["rows"]
 bs = load_findings("04_ablations")["seeds"]
 print(f"B, the course recipe at other seeds (tools/mcm_ldm_ablations.py --only seeds; val H at λ = {bs['scale']:g}, "
       f"{bs['ddim_steps']} DDIM steps):")
-packaged_seed = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["extra"]["train_config"]["seed"]
+packaged_seed = trained_seed(course_path("mcm_ldm"), "mcm_ldm")
 print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in bs["rows"])
       + f"  | best: seed {bs['best_seed']}; the packaged model: seed {packaged_seed}")
 rec = load_findings("03_contrastive_recipes")
