@@ -125,6 +125,19 @@ def test_bad_windows_and_folders_are_named(tmp_path, capsys):
     assert "nope" in capsys.readouterr().err
 
 
+def test_classifier_windows_keep_a_short_take_whole_and_cut_a_long_one():
+    w = walk(duration=2.0)  # 40 frames
+    long = R.classifier_windows(w)
+    assert [len(x) for x in long] == [R.CLASSIFIER_WINDOW] * 4  # starts 0, 8, 16, 24
+    np.testing.assert_allclose(long[1], R.windows(w, R.CLASSIFIER_WINDOW)[1])
+    short = R.classifier_windows(w[3:15])  # 12 frames: one action take, one window of its own
+    assert len(short) == 1 and short[0].shape == (12, 22, 3)
+    np.testing.assert_allclose(short[0][:, :, 1], w[3:15, :, 1])  # re-centred and re-faced; the floor kept
+    assert R.classifier_windows(w[:R.SHORT_TAKE - 1]) == []
+    assert len(R.classifier_windows(w[:R.SHORT_TAKE])) == 1
+    assert np.isfinite(R.window_features(short[0])).all()
+
+
 # ---------------------------------------------------------------- the report on tiny folders
 def make_folder(path, clips):
     """A dataset folder from (clip_id, style, content, split, positions) tuples."""

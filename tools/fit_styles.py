@@ -17,7 +17,7 @@ this the built-in shoulders sit 0.07 L higher and the head 0.5 L further forward
 
 Then the styles. Every style's walking takes (Xia contents 01–12) are described by one vector
 (`Describer`): the realism report's cues on 24-frame windows (mslib/evaluation/cues.py: posture,
-amplitude, tempo, dynamics), then where its 16-frame windows fall in the discriminant space of the
+amplitude, tempo, dynamics), then where its classifier windows fall in the discriminant space of the
 real styles — a linear discriminant analysis of the features the report's real-style classifier
 reads (means and spreads of body-frame joint positions, velocities and accelerations) over every
 real train window — because matching a dozen cues leaves what they do not see (real upper bodies
@@ -156,10 +156,10 @@ def use_body(directions: dict) -> None:
 
 class Describer:
     """What a style is fitted on, as one vector: the mean cues of its walks' 24-frame windows (cues.py),
-    then for each content group the mean of its 16-frame windows in the discriminant space of the real
-    styles (linear discriminant analysis of the standardised classifier features of every real window,
-    realism.window_features): the few directions in which real styles differ, each in units of the
-    real within-style spread."""
+    then for each content group the mean of its classifier windows (realism.classifier_windows) in the
+    discriminant space of the real styles (linear discriminant analysis of the standardised classifier
+    features of every real window, realism.window_features): the few directions in which real styles
+    differ, each in units of the real within-style spread."""
 
     def __init__(self, real: dict):
         import numpy as np
@@ -183,8 +183,8 @@ class Describer:
     @staticmethod
     def _features(takes):
         import numpy as np
-        from mslib.evaluation.realism import CLASSIFIER_WINDOW, window_features, windows
-        ws = [w for t in takes for w in windows(t, CLASSIFIER_WINDOW)]
+        from mslib.evaluation.realism import classifier_windows, window_features
+        ws = [w for t in takes for w in classifier_windows(t)]
         return np.array([window_features(w) for w in ws]).reshape(len(ws), 6 * 66)
 
     def __call__(self, groups: dict):

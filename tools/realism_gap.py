@@ -4,8 +4,8 @@
 
 XIA_TRAIN_DIR is a dataset folder made by data_prep from the Xia *train* split (the test grid is never read).
 The judge is the realism report's real → built-in classifier (mslib.evaluation.realism: a standardised logistic
-regression on the means and spreads over 16-frame windows of body-frame joint positions, velocities and
-accelerations, 6 groups × 66 features), trained on every real train window. Each row scores the built-in test
+regression on the means and spreads over its windows — 16 frames, or a short take whole — of body-frame joint
+positions, velocities and accelerations, 6 groups × 66 features), trained on every real train window. Each row scores the built-in test
 windows after shifting some of their features by the gap between the real and the built-in mean:
 
 - per cell: every (style, content) cell of built-in windows by (real cell mean − built-in cell mean), where the

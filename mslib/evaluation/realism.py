@@ -20,8 +20,12 @@ test data; without it, `--real`'s own train and test splits are used. The report
 
 Windows are of two lengths because real takes are short (Xia's are mostly 1–2 s at 20 fps): cues need
 about one gait cycle (24 frames = 1.2 s), the classifier works on 16 frames (0.8 s) so that most
-takes give one; built-in 32-frame windows are cut the same way. Takes shorter than a window are left
-out of that part and counted. Everything is deterministic: no random draw is made.
+takes give one; built-in 32-frame windows are cut the same way. A real punch, kick or run take is a
+single action cut from a longer performance and often lasts less than 16 frames (every neutral punch
+of the train split does): the classifier takes such a take of SHORT_TAKE frames or more whole, as one
+window, so that it knows every style's actions (its means and spreads are defined for any length).
+Takes shorter than a window are otherwise left out of that part and counted. Everything is
+deterministic: no random draw is made.
 """
 from __future__ import annotations
 
@@ -39,6 +43,7 @@ from ..fileio import atomic_write_bytes, check_writable
 from .cues import CUE_GROUPS, CUES, FPS, UNITS, body_frame, cue_table, facing_yaw, leg_length, rotate_to_facing
 
 CUE_WINDOW, CLASSIFIER_WINDOW, HOP = 24, 16, 8  # frames at 20 fps; windows start every HOP frames
+SHORT_TAKE = 8  # frames: a take this long but shorter than CLASSIFIER_WINDOW is one classifier window, whole
 EVALUATOR_WINDOW, EVALUATOR_OVERLAP = 32, 8  # the evaluator's windows (A §4.1, as data_prep --windows cuts them)
 # walks: "walk", and the raw Xia ids 01–12 of folders converted before data_prep named every Xia content
 WALKS = {"walk"} | {f"{i:02d}" for i in range(1, 13)}
@@ -77,6 +82,14 @@ def read_clips(folder, arg: str = "--real", split=None, progress: bool = False) 
 def windows(joints, length: int) -> list:
     """Windows of `length` frames starting every HOP frames, each re-centred and re-faced."""
     return cut_windows(joints, length, length - HOP)
+
+
+def classifier_windows(joints) -> list:
+    """The judge's windows of a take: CLASSIFIER_WINDOW frames every HOP frames, or, for a take of SHORT_TAKE
+    to CLASSIFIER_WINDOW − 1 frames (most real Xia punches and many kicks: one action each), the whole take."""
+    if SHORT_TAKE <= len(joints) < CLASSIFIER_WINDOW:
+        return cut_windows(joints, len(joints), 0)
+    return windows(joints, CLASSIFIER_WINDOW)
 
 
 def is_walk(content: str) -> bool:
@@ -144,7 +157,7 @@ def _windowed(clips, keep_style=None) -> tuple:
     for row, joints in clips:
         if keep_style is not None and row["style"] not in keep_style:
             continue
-        ws = windows(joints, CLASSIFIER_WINDOW)
+        ws = classifier_windows(joints)
         short += not ws
         for w in ws:
             X.append(window_features(w))
@@ -203,7 +216,7 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
     import sklearn
     out = {"model": f"StandardScaler + LogisticRegression (scikit-learn {sklearn.__version__}, lbfgs)", **choice,
            "features": "mean and std over time of body-frame joint positions, velocities, accelerations (396)",
-           "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "classes": classes,
+           "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "short_take_frames": SHORT_TAKE, "classes": classes,
            "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short}}
     if len(yt):
         pred_t = clf.predict(Xt)
@@ -350,8 +363,10 @@ def format_cross_scores(report: dict) -> str:
     def contents(key):
         return ["    by content: " + ", ".join(f"{c} {v['accuracy']:.0f} % of {v['n']}" for c, v in rb[key].items())
                 ] if rb.get(key) else []
+    whole = (f", takes of {rb['short_take_frames']}–{rb['window_frames'] - 1} frames whole"
+             if rb.get("short_take_frames") else "")
     lines = [f"real → built-in: logistic regression (C={rb['C']}) fitted on {rb['train']['windows']} real train "
-             f"windows of {rb['window_frames']} frames; chance {chance} %",
+             f"windows of {rb['window_frames']} frames{whole}; chance {chance} %",
              f"  real test windows {_score(rb.get('real_test_windows'))}, takes {_score(rb.get('real_test_takes'))}",
              *contents("real_test_by_content"),
              f"  built-in style test windows {_score(rb.get('builtin_test_windows'))} "

@@ -199,8 +199,11 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 # | dynamics | vertical bounce and lateral sway of the pelvis, jerk (third derivative) |
 #
 # and asks two **cross** questions: does a classifier trained on real takes only (a logistic
-# regression on window statistics) recognise the built-in styles (*real → built-in*)? And does the
-# packaged style evaluator, trained on built-in data only, recognise the real ones (*built-in → real*)?
+# regression on the means and spreads of 16-frame windows) recognise the built-in styles (*real →
+# built-in*)? A real punch take holds one punch and is often shorter than that window, so the judge
+# reads a take of 8 to 15 frames whole, as one window: otherwise it would never see a neutral punch.
+# And does the packaged style evaluator, trained on built-in data only, recognise the real ones
+# (*built-in → real*)?
 # Each panel below is one cue: real (●) against built-in (■) per style, ± one spread over windows.
 
 # %%
