@@ -24,7 +24,8 @@ takes give one; built-in 32-frame windows are cut the same way. A real punch, ki
 single action cut from a longer performance and often lasts less than 16 frames (every neutral punch
 of the train split does): the classifier takes such a take of SHORT_TAKE frames or more whole, as one
 window, so that it knows every style's actions (its means and spreads are defined for any length).
-Takes shorter than a window are otherwise left out of that part and counted. Everything is
+Takes too short for a part's windows (cues: 24 frames; classifier: SHORT_TAKE; evaluator windows: 32,
+while its whole-take score pads a short take) are left out of that part and counted. Everything is
 deterministic: no random draw is made.
 """
 from __future__ import annotations
