@@ -138,6 +138,15 @@ def test_classifier_windows_keep_a_short_take_whole_and_cut_a_long_one():
     assert np.isfinite(R.window_features(short[0])).all()
 
 
+def test_take_features_stack_every_judge_window_take_by_take():
+    w = walk(duration=2.0)
+    f = R.take_features([w, w[3:15], w[:R.SHORT_TAKE - 1]])  # 4 windows, 1 whole short take, 0 from the too-short one
+    assert f.shape == (5, 6 * 66)
+    np.testing.assert_allclose(f[1], R.window_features(R.classifier_windows(w)[1]))
+    np.testing.assert_allclose(f[4], R.window_features(R.classifier_windows(w[3:15])[0]))
+    assert R.take_features([w[:R.SHORT_TAKE - 1]]).shape == (0, 6 * 66)
+
+
 # ---------------------------------------------------------------- the report on tiny folders
 def make_folder(path, clips):
     """A dataset folder from (clip_id, style, content, split, positions) tuples."""
@@ -178,8 +187,13 @@ def test_report_structure_save_and_plot(tiny):
             pytest.approx(whole["accuracy"], abs=0.1)
     assert br["real_test_takes"]["n"] == 4 and br["real_test_takes"]["chance"] == 12.5
     assert br["real_train_takes"]["n"] == 8 and 0 <= br["builtin_test_clips_accuracy"] <= 100
+    bl = report["builtin_linear_to_real"]  # the linear recipe fitted on the built-in train clips (2 per style)
+    assert bl["train"]["takes"] == 4 and bl["C"] in R.C_CHOICES
+    assert bl["real_test_takes"]["n"] == 4 and bl["real_train_takes"]["n"] == 8
+    assert bl["real_test_windows"]["n"] == rb["real_test_windows"]["n"]  # the same real windows as part 2's
     text = R.format_report(report)
     assert "head_height" in text and "real → built-in" in text and "built-in → real" in text
+    assert "the other way round" in text
     out = R.save_report(report, root / "r.json")
     assert json.loads(out.read_text()) == json.loads(json.dumps(report))
     with pytest.raises(ValueError, match="already exists"):
@@ -254,7 +268,7 @@ def test_the_stored_report_is_of_this_generator_and_names_no_machine_paths(name,
     assert "/work/" not in text and "/tmp/" not in text and "/home/" not in text
     if name == "00_realism.json":
         assert report["command"].startswith("python -m mslib data realism --real ")
-        assert {"real_to_builtin", "builtin_to_real", "cues"} <= set(report)
+        assert {"real_to_builtin", "builtin_to_real", "builtin_linear_to_real", "cues"} <= set(report)
     else:  # the first row is the report's own real → built-in score (same judge, same windows)
         assert report["command"].startswith("python tools/realism_gap.py --real ")
         stored = json.loads((FINDINGS_DIR / "00_realism.json").read_text(encoding="utf-8"))

@@ -19,7 +19,8 @@ strength  the packaged course checkpoint at w ∈ {0.4, 0.45, 0.5, 0.55, 0.6, 0.
 recipes   full course-length runs (`--recipes NAME,...`, `--seeds 0,1,2,3`), each scored on the val pairs at
           w ∈ RECIPE_STRENGTHS: how the packaged checkpoint's recipe and seed are chosen (RECIPE_RULE; rows
           merge by recipe and seed, so two processes can each train some; rows made on other corpora than
-          the current build's are dropped):
+          the current build's are dropped; `--seeds ""` trains nothing and re-applies the rule to the stored
+          rows, e.g. after the strength section has scored a newly packaged checkpoint):
           course         the course preset as it is (λ_content = 2: A Eq. 5 with the content path counted twice,
                          adopted over the plain weights by this search on an earlier corpus);
           wide           hidden 128 (twice the channels: a closer autoencoder keeps more content);
@@ -149,7 +150,8 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=1500, help="decoder (and autoencoder) steps of each variant")
     ap.add_argument("--pairs", type=int, default=200, help="val pairs to score on")
     ap.add_argument("--recipes", default="course", help=f"recipes section: comma-separated, of {sorted(RECIPES)}")
-    ap.add_argument("--seeds", default="0", help="recipes section: comma-separated seeds")
+    ap.add_argument("--seeds", default="0", help="recipes section: comma-separated seeds (empty: train nothing, "
+                    "re-apply RECIPE_RULE to the stored rows and the stored strength section)")
     ap.add_argument("--keep", default=None, metavar="DIR", help="recipes section: keep each run's checkpoint here")
     args = ap.parse_args(argv)
     unknown = set(args.only.split(",")) - {"variants", "strength", "recipes"}
@@ -171,7 +173,7 @@ def main(argv=None) -> int:
         result["strength"] = strength(pairs, evaluator)
     if "recipes" in todo:
         result["recipes"] = recipes(paths, pairs, evaluator, args.recipes.split(","),
-                                    [int(x) for x in args.seeds.split(",")], args.keep)
+                                    [int(x) for x in args.seeds.split(",") if x.strip()], args.keep)
     command = recorded_command("adain_variants", argv if argv is not None else sys.argv[1:])
     for part in result.values():
         part.update(command=command, val_pairs=args.pairs, commit=current_commit())

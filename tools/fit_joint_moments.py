@@ -123,7 +123,7 @@ def generated_windows(style: str, content: str, table: dict, takes: int = TAKES,
         joints = [registered_positions(c) for c in synth.generate_clips(specs)]
     finally:
         jm.FITTED = saved
-    feats = np.array([realism.window_features(w) for j in joints for w in realism.classifier_windows(j)])
+    feats = realism.take_features(joints)
     cues = (np.concatenate([cue_table(realism.windows(j, realism.CUE_WINDOW)) for j in joints])
             if with_cues else None)
     return feats, cues

@@ -182,10 +182,8 @@ class Describer:
 
     @staticmethod
     def _features(takes):
-        import numpy as np
-        from mslib.evaluation.realism import classifier_windows, window_features
-        ws = [w for t in takes for w in classifier_windows(t)]
-        return np.array([window_features(w) for w in ws]).reshape(len(ws), 6 * 66)
+        from mslib.evaluation.realism import take_features
+        return take_features(takes)
 
     def __call__(self, groups: dict):
         """groups: {content group: [joints]} → (n_cues + 5 × n_dims,), NaN where a group has no window."""

@@ -17,6 +17,8 @@ test data; without it, `--real`'s own train and test splits are used. The report
 3. Built-in → real: the packaged style evaluator (trained on built-in data only) names the style of
    the real test takes, whole (its window-averaged score) and per 32-frame window, and of the real
    training takes (it never saw them either); its accuracy on built-in test clips is the reference.
+   Beside it, part 2's recipe the other way round — fitted on built-in style train windows, read on the
+   same real takes — tells how much of the gap is the data's and how much the evaluator network's.
 
 Windows are of two lengths because real takes are short (Xia's are mostly 1–2 s at 20 fps): cues need
 about one gait cycle (24 frames = 1.2 s), the classifier works on 16 frames (0.8 s) so that most
@@ -152,18 +154,25 @@ def window_features(window) -> np.ndarray:
     return np.concatenate([x.mean(0) for x in flat] + [x.std(0) for x in flat])
 
 
+def take_features(takes) -> np.ndarray:
+    """(N, 396) `window_features` of every judge window (`classifier_windows`) of the takes, take by take."""
+    feats = [window_features(w) for joints in takes for w in classifier_windows(joints)]
+    return np.array(feats).reshape(len(feats), 6 * 66)
+
+
 def _windowed(clips, keep_style=None) -> tuple:
     """Features (N, 396), styles (N,), take ids (N,), contents (N,) of every classifier window."""
     X, y, take, content, short = [], [], [], [], 0
     for row, joints in clips:
         if keep_style is not None and row["style"] not in keep_style:
             continue
-        ws = classifier_windows(joints)
-        short += not ws
-        for w in ws:
-            X.append(window_features(w))
+        feats = take_features([joints])
+        short += not len(feats)
+        X.append(feats)
+        for _ in feats:
             y.append(row["style"]), take.append(row.get("take") or row["clip_id"]), content.append(row["content"])
-    return np.array(X).reshape(-1, 6 * 66), np.array(y), np.array(take), np.array(content), short
+    X = np.concatenate(X) if X else np.zeros((0, 6 * 66))
+    return X, np.array(y), np.array(take), np.array(content), short
 
 
 def scores(true, pred, classes) -> dict:
@@ -211,7 +220,6 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
                          f"got {sorted(set(y))}")
     clf, choice = fit_window_classifier(X, y, groups, seed)
     classes = list(clf.classes_)
-    Xt, yt, take_t, content_t, short_t = _windowed(test_clips, set(classes))
     Xb, yb, _, content_b, short_b = _windowed(tqdm(builtin_test_clips, desc="built-in test windows",
                                                    disable=not progress), set(classes))
     import sklearn
@@ -219,14 +227,10 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
            "features": "mean and std over time of body-frame joint positions, velocities, accelerations (396)",
            "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "short_take_frames": SHORT_TAKE, "classes": classes,
            "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short}}
-    if len(yt):
-        pred_t = clf.predict(Xt)
-        out["real_test_windows"] = {**scores(yt, pred_t, classes), "takes_too_short": short_t}
-        out["real_test_by_content"] = by_content(yt, pred_t, content_t)
-        proba = clf.predict_proba(Xt)
-        takes = sorted(set(take_t))
-        mean_p = np.stack([proba[take_t == t].mean(0) for t in takes])
-        out["real_test_takes"] = scores([yt[take_t == t][0] for t in takes], np.array(classes)[mean_p.argmax(1)], classes)
+    test = linear_scores(clf, test_clips)
+    if test:
+        out["real_test_windows"], out["real_test_by_content"], out["real_test_takes"] = (
+            test["windows"], test["by_content"], test["takes"])
     if len(yb):
         pred_b = clf.predict(Xb)
         out["builtin_test_windows"] = {**scores(yb, pred_b, classes), "takes_too_short": short_b}
@@ -234,6 +238,20 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
         out["builtin_test_walk_windows"] = scores(yb[walk], pred_b[walk], classes)
         out["builtin_test_by_content"] = by_content(yb, pred_b, content_b)
     return out
+
+
+def linear_scores(clf, clips) -> dict:
+    """A window classifier's `scores` on the classifier windows of clips with a style it knows, per window,
+    per content and per take (the take's window probabilities averaged); {} if no window."""
+    classes = list(clf.classes_)
+    X, y, take, content, short = _windowed(clips, set(classes))
+    if not len(y):
+        return {}
+    pred, proba, takes = clf.predict(X), clf.predict_proba(X), sorted(set(take))
+    mean_p = np.stack([proba[take == t].mean(0) for t in takes])
+    return {"windows": {**scores(y, pred, classes), "takes_too_short": short},
+            "by_content": by_content(y, pred, content),
+            "takes": scores([y[take == t][0] for t in takes], np.array(classes)[mean_p.argmax(1)], classes)}
 
 
 def by_content(true, pred, content) -> dict:
@@ -272,6 +290,22 @@ def builtin_to_real(test_clips, train_clips=None, builtin_folder=None, evaluator
     return out
 
 
+def builtin_linear_to_real(builtin_train_clips, test_clips, train_clips=None, seed: int = 0) -> dict:
+    """Part 2's recipe the other way round: fitted on built-in style train windows, read on real takes. Beside
+    the packaged evaluator it separates the gap of the data from the gap of the evaluator's own network."""
+    X, y, groups, _, short = _windowed(builtin_train_clips)
+    if len(set(y)) < 2:
+        raise ValueError(f"built-in train data: need windows of {CLASSIFIER_WINDOW} frames from at least two "
+                         f"styles, got {sorted(set(y))}")
+    clf, choice = fit_window_classifier(X, y, groups, seed)
+    test = linear_scores(clf, test_clips)
+    out = {**choice, "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short},
+           "real_test_windows": test.get("windows"), "real_test_takes": test.get("takes")}
+    if train_clips is not None:
+        out["real_train_takes"] = linear_scores(clf, train_clips).get("takes")
+    return out
+
+
 # ---------------------------------------------------------------- the report
 def realism_report(real, grid=None, builtin=None, seed: int = 0, evaluator=None, progress: bool = True) -> dict:
     """All three parts for a real dataset folder (and its test grid) against the built-in style corpus.
@@ -302,6 +336,8 @@ def realism_report(real, grid=None, builtin=None, seed: int = 0, evaluator=None,
         "cues": cue_comparison(real_all, built, progress),
         "real_to_builtin": real_to_builtin(train, test, built_test, seed, progress),
         "builtin_to_real": builtin_to_real(test, train if grid is not None else None, builtin, evaluator),
+        "builtin_linear_to_real": builtin_linear_to_real([(r, j) for r, j in built if r["split"] == "train"], test,
+                                                         train if grid is not None else None, seed),
     }
     return report
 
@@ -337,7 +373,7 @@ def _score(s) -> str:
 
 
 def format_report(report: dict) -> str:
-    """The cue table (real/built-in per style) and the two cross scores, as text."""
+    """The cue table (real/built-in per style) and the cross scores, as text."""
     cues = report["cues"]
     styles = cues["styles"]
     width = max(13, *(len(s) + 2 for s in styles))
@@ -358,7 +394,7 @@ def format_report(report: dict) -> str:
 
 
 def format_cross_scores(report: dict) -> str:
-    """The two cross scores (real → built-in, built-in → real) with their per-style readings, as text."""
+    """The cross scores (real → built-in; built-in → real by the evaluator and by the linear recipe), as text."""
     rb, br = report["real_to_builtin"], report["builtin_to_real"]
     chance = rb.get("real_test_windows", {}).get("chance")
     def contents(key):
@@ -380,6 +416,12 @@ def format_cross_scores(report: dict) -> str:
               + (f", real train takes {_score(br.get('real_train_takes'))}" if br.get("real_train_takes") else "")]
     for p in (br.get("real_test_takes") or {}).get("per_style", []):
         lines.append(f"    {p['style']:<10} {p['accuracy']:5.0f} %  read as {p['read_as']} ({p['read_as_share']:.0f} %)")
+    bl = report.get("builtin_linear_to_real")
+    if bl:
+        lines += [f"built-in → real, the real → built-in recipe the other way round: logistic regression (C={bl['C']}) "
+                  f"fitted on {bl['train']['windows']} built-in style train windows",
+                  f"  real test takes {_score(bl.get('real_test_takes'))}, windows {_score(bl.get('real_test_windows'))}"
+                  + (f", real train takes {_score(bl.get('real_train_takes'))}" if bl.get("real_train_takes") else "")]
     return "\n".join(lines)
 
 

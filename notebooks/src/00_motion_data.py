@@ -203,7 +203,9 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 # built-in*)? A real punch take holds one punch and is often shorter than that window, so the judge
 # reads a take of 8 to 15 frames whole, as one window: otherwise it would never see a neutral punch.
 # And does the packaged style evaluator, trained on built-in data only, recognise the real ones
-# (*built-in → real*)?
+# (*built-in → real*)? The last lines ask that again of the real judge's own recipe, fitted on built-in
+# windows instead: where it reads real takes better than the evaluator does, the evaluator's network is part
+# of the gap; what it still misses is the data's.
 # Each panel below is one cue: real (●) against built-in (■) per style, ± one spread over windows.
 
 # %%
@@ -228,7 +230,9 @@ print(format_cross_scores(realism))
 # jerkier than its real counterpart (the jerk panel), the old one taking shorter and slower steps than the
 # real old walker (stride, speed). The other direction is weaker: the evaluator trained on
 # built-in clips recognises the real test takes less often than the real judge reads built-in windows, and
-# reads no real sexy take as sexy. The built-in styles now sit where
+# reads no real sexy take as sexy. The linear recipe fitted on built-in windows (the last lines) reads more
+# real takes than the evaluator does, yet still fewer than the real judge reads built-in windows: a little of
+# the gap is the evaluator's network, most of it is the data. The built-in styles now sit where
 # the real ones do in the space a linear judge reads, yet a classifier trained on built-in clips alone
 # still learns cues of the generator that real takes do not share. That is why the benchmark of
 # notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained on real takes.
