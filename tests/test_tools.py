@@ -232,3 +232,18 @@ def test_train_all_runs_a_job_only_after_the_ones_it_needs(tmp_path, monkeypatch
     monkeypatch.setattr(T, "command", lambda name: [sys.executable, "-c", "raise SystemExit(3)"])
     done = T.run(["adain", "dsdn"], jobs=1, logs=tmp_path)
     assert done == {"adain": {**done["adain"], "returncode": 3}}  # no job after a failure
+
+
+def test_realism_gap_spread_ratios_read_a_cell_twice_as_wide_as_two():
+    import numpy as np
+    from tools.realism_gap import spread_ratios
+    rng = np.random.default_rng(1)
+    y, c = np.repeat(["a", "b"], 30), np.array(["walk"] * 60)
+    X = rng.normal(size=(60, 6)) + np.where(y == "a", 0.0, 3.0)[:, None]  # two real styles, one content
+    mean = {s: X[y == s].mean(0) for s in "ab"}
+    Xb = np.stack([mean[s] + 2.0 * (x - mean[s]) for x, s in zip(X, y)])  # each cell twice as wide, same mean
+    out = spread_ratios(X, y, c, Xb, y, c, min_windows=10)
+    for part in ("real_directions", "builtin_directions"):
+        assert set(out[part]["cells"]) == {"a:walk", "b:walk"}
+        assert np.allclose(list(out[part]["cells"].values()), 2.0) and out[part]["median"] == 2.0
+    assert spread_ratios(X, y, c, Xb, y, c, min_windows=31)["real_directions"] == {"median": None, "cells": {}}

@@ -13,6 +13,13 @@ windows after shifting some of their features by the gap between the real and th
 - style-free: every content by (real content mean − built-in content mean), pooled over styles — the same
   correction for every style, as a better "punch" or "jump" in general would give.
 
+It also stores `spreads`: for every (style, content) cell with at least SPREAD_MIN_WINDOWS real and built-in
+windows, the spread of the built-in windows over that of the real ones along the discriminant directions of the
+real styles (where a judge of real styles looks) and of the built-in styles (where a judge trained on built-in
+data looks), the mean over the 7 directions of each, and its median over cells. A built-in cell tighter than
+the real one along the second set (ratio < 1) is why a judge trained on built-in data misreads real takes even
+where the cell means match: real windows scatter off the narrow clusters it learned.
+
 This is a diagnosis, not a generator: the real means are those of the very windows the judge learned from, so a
 full per-cell shift is an upper bound of what matching means could do. It answers which feature groups a
 generator must get right per style to be read as real, and whether getting a content right for all styles at
@@ -37,6 +44,7 @@ ROWS = (  # (label, groups shifted, share of the gap closed, per cell or style-f
     ("all six groups, style-free", GROUPS, 1.0, "content"),
 )
 DEFAULT_OUT = "notebooks/data/00_realism_gap.json"
+SPREAD_MIN_WINDOWS = 10  # real (and built-in) windows a cell needs for its spreads to be compared
 
 
 def columns(groups) -> "np.ndarray":
@@ -55,6 +63,28 @@ def shifted(Xb, yb, cb, X, y, c, cols, share: float, mode: str):
             mr = (c == k) if s is None else (c == k) & (y == s)
             if mr.any() and mb.any():
                 out[np.ix_(mb, cols)] += share * (X[mr][:, cols].mean(0) - Xb[mb][:, cols].mean(0))
+    return out
+
+
+def spread_ratios(X, y, c, Xb, yb, cb, min_windows: int = SPREAD_MIN_WINDOWS) -> dict:
+    """Per (style, content) cell: std(built-in) / std(real) of the windows along the real and the built-in
+    styles' discriminant directions (mean over the directions), and the median over cells."""
+    import numpy as np
+    from sklearn.preprocessing import StandardScaler
+    from tools.fit_joint_moments import discriminant_directions
+    scaler = StandardScaler().fit(X)
+    Z, Zb = scaler.transform(X), scaler.transform(Xb)
+    out = {}
+    for name, (ZZ, yy) in (("real_directions", (Z, y)), ("builtin_directions", (Zb, yb))):
+        D = discriminant_directions(ZZ, yy)  # (styles − 1, features): a ratio per direction needs no scaling
+        P, Pb = Z @ D.T, Zb @ D.T
+        cells = {}
+        for s in sorted(set(y)):
+            for k in sorted(set(cb)):
+                m, mb = (y == s) & (c == k), (yb == s) & (cb == k)
+                if m.sum() >= min_windows and mb.sum() >= min_windows:
+                    cells[f"{s}:{k}"] = round(float((Pb[mb].std(0) / P[m].std(0)).mean()), 3)
+        out[name] = {"median": round(float(np.median(list(cells.values()))), 3) if cells else None, "cells": cells}
     return out
 
 
@@ -86,7 +116,8 @@ def measure(real, progress: bool = True) -> dict:
         if progress:
             print(rows[-1], flush=True)
     cells = {k: {s: int(((c == k) & (y == s)).sum()) for s in sorted(set(y))} for k in sorted(set(cb))}
-    return {"rows": rows, "judge": C, "real": {"folder": Path(real).name, "digest": R.folder_digest(real)},
+    return {"rows": rows, "spreads": spread_ratios(X, y, c, Xb, yb, cb), "judge": C,
+            "real": {"folder": Path(real).name, "digest": R.folder_digest(real)},
             "builtin": R.builtin_info(builtin), "real_windows_per_cell": cells}
 
 
@@ -107,6 +138,10 @@ def main(argv=None) -> int:
     for r in table["rows"]:
         print(f"{r['shift']:<44} " + "  ".join(f"{k} {v:5.1f}" for k, v in r.items() if k not in
                                                  ("shift", "groups", "share", "mode")))
+    sp = table["spreads"]
+    print(f"spread of built-in / real windows per cell (median over {len(sp['real_directions']['cells'])} cells): "
+          f"along the real styles' directions {sp['real_directions']['median']}, along the built-in styles' "
+          f"{sp['builtin_directions']['median']}")
     print(f"→ {out}")
     return 0
 
