@@ -17,8 +17,8 @@ It also stores `spreads`: for every (style, content) cell with at least SPREAD_M
 windows, the spread of the built-in windows over that of the real ones along the discriminant directions of the
 real styles (where a judge of real styles looks) and of the built-in styles (where a judge trained on built-in
 data looks), the mean over the 7 directions of each, and its median over cells. A built-in cell tighter than
-the real one along the second set (ratio < 1) is why a judge trained on built-in data misreads real takes even
-where the cell means match: real windows scatter off the narrow clusters it learned.
+the real one along the second set (ratio < 1) lets a judge trained on built-in data learn clusters narrower than
+the real windows it will read: one way it misreads real takes even where the cell means match.
 
 This is a diagnosis, not a generator: the real means are those of the very windows the judge learned from, so a
 full per-cell shift is an upper bound of what matching means could do. It answers which feature groups a
