@@ -168,6 +168,15 @@ def tiny(tmp_path_factory):
     return root, real, grid, built
 
 
+def test_a_judge_needs_two_styles_and_says_whose_data_lacks_them(tiny):
+    root, real, grid, built = tiny
+    one = [(r, j) for r, j in R.read_clips(built, "b") if r["style"] == "old"]
+    with pytest.raises(ValueError, match="built-in train data: need windows .* at least two styles"):
+        R.fit_judge(one, "built-in")
+    clf, fitted = R.fit_judge(R.read_clips(real, "--real"), "real")
+    assert list(clf.classes_) == ["neutral", "old"] and fitted["train"]["takes"] == 8 and fitted["C"] in R.C_CHOICES
+
+
 def test_report_structure_save_and_plot(tiny):
     root, real, grid, built = tiny
     report = R.realism_report(real, grid, builtin=built, progress=False)

@@ -212,21 +212,26 @@ def fit_window_classifier(X, y, groups, seed: int = 0):
                                    "cv_folds": folds}
 
 
-def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, progress: bool = False) -> dict:
-    """Fit on real train windows; score real test windows and takes, and built-in style test windows."""
-    X, y, groups, _, short = _windowed(tqdm(train_clips, desc="real train windows", disable=not progress))
+def fit_judge(clips, what: str, seed: int = 0) -> tuple:
+    """`fit_window_classifier` on every classifier window of the clips: (model, {C, CV scores, "train": counts})."""
+    X, y, groups, _, short = _windowed(clips)
     if len(set(y)) < 2:
-        raise ValueError(f"real train data: need windows of {CLASSIFIER_WINDOW} frames from at least two styles, "
+        raise ValueError(f"{what} train data: need windows of {CLASSIFIER_WINDOW} frames from at least two styles, "
                          f"got {sorted(set(y))}")
     clf, choice = fit_window_classifier(X, y, groups, seed)
+    return clf, {**choice, "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short}}
+
+
+def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, progress: bool = False) -> dict:
+    """Fit on real train windows; score real test windows and takes, and built-in style test windows."""
+    clf, fitted = fit_judge(tqdm(train_clips, desc="real train windows", disable=not progress), "real", seed)
     classes = list(clf.classes_)
     Xb, yb, _, content_b, short_b = _windowed(tqdm(builtin_test_clips, desc="built-in test windows",
                                                    disable=not progress), set(classes))
     import sklearn
-    out = {"model": f"StandardScaler + LogisticRegression (scikit-learn {sklearn.__version__}, lbfgs)", **choice,
+    out = {"model": f"StandardScaler + LogisticRegression (scikit-learn {sklearn.__version__}, lbfgs)", **fitted,
            "features": "mean and std over time of body-frame joint positions, velocities, accelerations (396)",
-           "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "short_take_frames": SHORT_TAKE, "classes": classes,
-           "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short}}
+           "window_frames": CLASSIFIER_WINDOW, "hop_frames": HOP, "short_take_frames": SHORT_TAKE, "classes": classes}
     test = linear_scores(clf, test_clips)
     if test:
         out["real_test_windows"], out["real_test_by_content"], out["real_test_takes"] = (
@@ -293,14 +298,9 @@ def builtin_to_real(test_clips, train_clips=None, builtin_folder=None, evaluator
 def builtin_linear_to_real(builtin_train_clips, test_clips, train_clips=None, seed: int = 0) -> dict:
     """Part 2's recipe the other way round: fitted on built-in style train windows, read on real takes. Beside
     the packaged evaluator it separates the gap of the data from the gap of the evaluator's own network."""
-    X, y, groups, _, short = _windowed(builtin_train_clips)
-    if len(set(y)) < 2:
-        raise ValueError(f"built-in train data: need windows of {CLASSIFIER_WINDOW} frames from at least two "
-                         f"styles, got {sorted(set(y))}")
-    clf, choice = fit_window_classifier(X, y, groups, seed)
+    clf, fitted = fit_judge(builtin_train_clips, "built-in", seed)
     test = linear_scores(clf, test_clips)
-    out = {**choice, "train": {"windows": int(len(y)), "takes": int(len(set(groups))), "takes_too_short": short},
-           "real_test_windows": test.get("windows"), "real_test_takes": test.get("takes")}
+    out = {**fitted, "real_test_windows": test.get("windows"), "real_test_takes": test.get("takes")}
     if train_clips is not None:
         out["real_train_takes"] = linear_scores(clf, train_clips).get("takes")
     return out
