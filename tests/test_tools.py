@@ -199,6 +199,47 @@ def test_realism_gap_moves_each_cell_to_the_real_mean_and_only_what_it_names():
         free[cb == "jump"][:, cols].mean(0), X[c == "jump"][:, cols].mean(0))
 
 
+
+def test_realism_gap_rescaled_gives_each_cell_the_real_mean_and_spread():
+    import numpy as np
+    from tools.realism_gap import rescaled
+    rng = np.random.default_rng(2)
+    Xb, X = rng.normal(size=(12, 5)), rng.normal(4.0, 3.0, size=(9, 5))
+    Xb[:, 4] = 1.0  # a feature without spread in the built-in cells stays flat
+    yb, cb = np.array(list("aabb") * 3), np.array(["jump"] * 8 + ["kick"] * 4)
+    y, c = np.array(list("aaabbbaaa")), np.array(["jump"] * 6 + ["None"] * 3)
+    out = rescaled(Xb, yb, cb, X, y, c)
+    for s in "ab":
+        mb, mr = (yb == s) & (cb == "jump"), (y == s) & (c == "jump")
+        assert np.allclose(out[mb][:, :4].mean(0), X[mr][:, :4].mean(0))
+        assert np.allclose(out[mb][:, :4].std(0), X[mr][:, :4].std(0))
+        assert np.allclose(out[mb][:, 4], X[mr][:, 4].mean())
+    assert np.array_equal(out[cb == "kick"], Xb[cb == "kick"])  # no real kick: untouched
+
+
+def test_realism_gap_reverse_bound_undoes_swapped_built_in_styles():
+    """Built-in cells labelled the wrong way round: a judge trained on them reads every real take wrong, and
+    one trained on them with the cell means moved to the real ones reads every take right."""
+    import numpy as np
+    from mslib.evaluation import realism as R
+    from mslib.motion.skeleton import HUMANML3D
+    from tools.realism_gap import reverse_bound
+    rng = np.random.default_rng(3)
+    rest = HUMANML3D.rest_positions() + np.array([0.0, 0.95, 0.0])  # standing on the floor
+    clips = []
+    for i in range(48):
+        style = "ab"[i % 2]
+        joints = rest + rng.normal(0.0, 1e-4, size=(40, 22, 3))
+        joints[:, [9, *range(12, 22)], 2] += 0.15 if style == "a" else -0.05  # chest, arms and head: leaning forward for a, back for b
+        clips.append(({"clip_id": f"t{i}", "style": style, "content": "walk"}, joints))
+    X, y, _, _, _ = R._windowed(clips)
+    yb = np.where(y == "a", "b", "a")  # swapped
+    out = reverse_bound(clips, X, yb, np.array(["walk"] * len(y)), C=1.0, splits=1)
+    rows = {r["judge trained on"]: r for r in out["rows"]}
+    assert rows["as generated"]["takes"] == 0.0 and rows["as generated"]["walk takes"] == 0.0
+    assert rows["cell means matched"]["takes"] == 100.0 and rows["real judge (ceiling)"]["takes"] == 100.0
+    assert rows["cell means and spreads matched"]["takes"] == 100.0
+
 # ---------------------------------------------------------------- tools/train_all.py
 def test_train_all_plans_every_checkpoint_after_what_it_reads():
     from tools import train_all as T

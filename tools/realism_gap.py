@@ -20,6 +20,15 @@ data looks), the mean over the 7 directions of each, and its median over cells. 
 the real one along the second set (ratio < 1) lets a judge trained on built-in data learn clusters narrower than
 the real windows it will read: one way it misreads real takes even where the cell means match.
 
+And `reverse`, the same question for the other cross score (built-in → real): the realism recipe turned round —
+a logistic regression trained on built-in *train* windows, as `realism.builtin_linear_to_real` does — trained on
+the windows as generated, with every cell's means moved to the real cell's (all six groups), and with its means
+and per-feature spreads moved, x' = μ_real + (x − μ_built)·σ_real/σ_built. The real cell means and spreads are
+estimated on one half of the real train takes and the judge reads the other half (takes, window probabilities
+averaged; REVERSE_SPLITS random halves, each both ways), walks and the other contents apart; the real judge
+trained on the first half is the ceiling. It says how far a built-in corpus that matched real cells could take
+a judge trained on it alone.
+
 This is a diagnosis, not a generator: the real means are those of the very windows the judge learned from, so a
 full per-cell shift is an upper bound of what matching means could do. It answers which feature groups a
 generator must get right per style to be read as real, and whether getting a content right for all styles at
@@ -44,6 +53,7 @@ ROWS = (  # (label, groups shifted, share of the gap closed, per cell or style-f
     ("all six groups, style-free", GROUPS, 1.0, "content"),
 )
 DEFAULT_OUT = "notebooks/data/00_realism_gap.json"
+REVERSE_SPLITS = 3  # random halves of the real train takes for `reverse` (each used both ways)
 SPREAD_MIN_WINDOWS = 10  # real (and built-in) windows a cell needs for its spreads to be compared
 
 
@@ -88,6 +98,58 @@ def spread_ratios(X, y, c, Xb, yb, cb, min_windows: int = SPREAD_MIN_WINDOWS) ->
     return out
 
 
+def rescaled(Xb, yb, cb, X, y, c):
+    """Built-in features Xb with every cell moved to the real cell's mean and per-feature spread (cells with ≥ 2 of each)."""
+    import numpy as np
+    out = Xb.copy()
+    for k in np.unique(cb):
+        for s in np.unique(yb):
+            mb, mr = (cb == k) & (yb == s), (c == k) & (y == s)
+            if mr.sum() >= 2 and mb.sum() >= 2:
+                sb = Xb[mb].std(0)
+                ratio = np.where(sb > 0, X[mr].std(0) / np.where(sb > 0, sb, 1.0), 1.0)
+                out[mb] = X[mr].mean(0) + (Xb[mb] - Xb[mb].mean(0)) * ratio
+    return out
+
+
+def reverse_bound(real_clips, Xb, yb, cb, C: float, splits: int = REVERSE_SPLITS, seed: int = 0) -> dict:
+    """Real held-out take accuracy (%) of linear judges trained on built-in windows as generated, with cell means
+    moved to real ones, with means and spreads moved, and of the real judge itself; walks and other contents apart."""
+    import numpy as np
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.pipeline import make_pipeline
+    from sklearn.preprocessing import StandardScaler
+    from mslib.evaluation import realism as R
+    from tools.fit_styles import content_group
+
+    def judge(X, y):
+        return make_pipeline(StandardScaler(), LogisticRegression(C=C, max_iter=5000, random_state=seed)).fit(X, y)
+
+    def read(clf, clips):
+        walks = [k for k in clips if content_group(k[0]["content"]) == "walk"]
+        others = [k for k in clips if content_group(k[0]["content"]) not in ("walk", None)]
+        return [(R.linear_scores(clf, part).get("takes") or {"accuracy": np.nan})["accuracy"]
+                for part in (clips, walks, others)]
+    names = ("as generated", "cell means matched", "cell means and spreads matched", "real judge (ceiling)")
+    got = {n: [] for n in names}
+    rng = np.random.default_rng(seed)
+    for _ in range(splits):
+        order = rng.permutation(len(real_clips))
+        halves = [[real_clips[i] for i in order[:len(order) // 2]], [real_clips[i] for i in order[len(order) // 2:]]]
+        for fit_half, read_half in (halves, halves[::-1]):
+            X, y, _, c, _ = R._windowed(fit_half)
+            c = np.array([str(content_group(x)) for x in c])
+            moved_means = shifted(Xb, yb, cb, X, y, c, columns(GROUPS), 1.0, "cell")
+            for name, (XX, yy) in zip(names, ((Xb, yb), (moved_means, yb), (rescaled(Xb, yb, cb, X, y, c), yb), (X, y))):
+                got[name].append(read(judge(XX, yy), read_half))
+    def mean(v):
+        v = np.asarray(v, float)
+        return round(float(np.nanmean(v)), 1) if np.isfinite(v).any() else None
+    return {"C": C, "splits": splits, "rows": [
+        {"judge trained on": n, **{part: mean([g[i] for g in got[n]])
+                                   for i, part in enumerate(("takes", "walk takes", "other takes"))}} for n in names]}
+
+
 def accuracy_by_content(pred, yb, cb) -> dict:
     """Accuracy (%) per content (the realism report's by_content) and over all windows."""
     import numpy as np
@@ -103,7 +165,8 @@ def measure(real, progress: bool = True) -> dict:
     from mslib.evaluation import realism as R
     from tools.fit_styles import check_train_split, content_group
     check_train_split(real)
-    X, y, g, c, _ = R._windowed(R.read_clips(real, "--real"))
+    real_clips = R.read_clips(real, "--real")
+    X, y, g, c, _ = R._windowed(real_clips)
     c = np.array([str(content_group(x)) for x in c])  # transitions ("None") train the judge, shift nothing
     judge, C = R.fit_window_classifier(X, y, g)  # (model, its C and CV scores): the realism report's judge, on every real train window
     builtin = load_builtin(progress=progress)["style"]
@@ -116,7 +179,10 @@ def measure(real, progress: bool = True) -> dict:
         if progress:
             print(rows[-1], flush=True)
     cells = {k: {s: int(((c == k) & (y == s)).sum()) for s in sorted(set(y))} for k in sorted(set(cb))}
-    return {"rows": rows, "spreads": spread_ratios(X, y, c, Xb, yb, cb), "judge": C,
+    Xt, yt, gt, ct, _ = R._windowed([(r, j) for r, j in R.read_clips(builtin, "--builtin") if r["split"] == "train"])
+    _, Ct = R.fit_window_classifier(Xt, yt, gt)  # C of the reversed judge, chosen once on the windows as generated
+    reverse = reverse_bound(real_clips, Xt, yt, ct, Ct["C"])
+    return {"rows": rows, "spreads": spread_ratios(X, y, c, Xb, yb, cb), "reverse": reverse, "judge": C,
             "real": {"folder": Path(real).name, "digest": R.folder_digest(real)},
             "builtin": R.builtin_info(builtin), "real_windows_per_cell": cells}
 
@@ -142,6 +208,9 @@ def main(argv=None) -> int:
     print(f"spread of built-in / real windows per cell (median over {len(sp['real_directions']['cells'])} cells): "
           f"along the real styles' directions {sp['real_directions']['median']}, along the built-in styles' "
           f"{sp['builtin_directions']['median']}")
+    for r in table["reverse"]["rows"]:
+        print(f"built-in → real, {r['judge trained on']:<32} real held-out takes {r['takes']}  walks "
+              f"{r['walk takes']}  other contents {r['other takes']}")
     print(f"→ {out}")
     return 0
 
