@@ -86,6 +86,17 @@ def test_train_classifier_learns_and_checkpoints(tmp_path):
         E.train_classifier("mood", folder)
 
 
+def test_train_classifier_net_sizes_reach_the_checkpoint(tmp_path):
+    folder = toy_folder(tmp_path / "toy")
+    model, _ = E.train_classifier("style", folder, seed=0, out=tmp_path / "n.pt", progress=False, steps=20,
+                                  batch_size=16, val_every=10, net={"width": 16, "feature_dim": 8, "dropout": 0.5})
+    again = E.load_classifier("style", tmp_path / "n.pt")
+    assert (again.cfg.width, again.cfg.feature_dim, again.cfg.dropout) == (16, 8, 0.5)
+    assert again.score([synthetic_motion(T=50)])[1].shape == (1, 8)
+    with pytest.raises(ValueError, match=r"net: \['depth'\] cannot be changed"):
+        E.train_classifier("style", folder, net={"depth": 3})
+
+
 def test_unknown_method_lists_the_known_ones():
     with pytest.raises(ValueError, match="known methods: .*copy_style.*identity"):
         bench.get_method("nope")

@@ -236,9 +236,10 @@ def test_realism_gap_reverse_bound_undoes_swapped_built_in_styles():
     yb = np.where(y == "a", "b", "a")  # swapped
     out = reverse_bound(clips, X, yb, np.array(["walk"] * len(y)), C=1.0, splits=1)
     rows = {r["judge trained on"]: r for r in out["rows"]}
-    assert rows["as generated"]["takes"] == 0.0 and rows["as generated"]["walk takes"] == 0.0
-    assert rows["cell means matched"]["takes"] == 100.0 and rows["real judge (ceiling)"]["takes"] == 100.0
-    assert rows["cell means and spreads matched"]["takes"] == 100.0
+    assert rows["built-in as generated"]["takes"] == 0.0 and rows["built-in as generated"]["walk takes"] == 0.0
+    assert rows["built-in, cell means matched"]["takes"] == 100.0 and rows["real takes (the ceiling)"]["takes"] == 100.0
+    assert rows["built-in, cell means and spreads matched"]["takes"] == 100.0
+    assert rows["built-in as generated"]["other takes"] is None  # no other content: no score, not a zero
 
 # ---------------------------------------------------------------- tools/train_all.py
 def test_train_all_plans_every_checkpoint_after_what_it_reads():

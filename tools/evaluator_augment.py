@@ -1,12 +1,13 @@
-"""Which training augmentation lets the built-in style evaluator recognise real styles: a search, chosen on real
-TRAIN takes only.
+"""Which training augmentation (or regularisation) lets the built-in style evaluator recognise real styles: a
+search, chosen on real TRAIN takes only.
 
     .venv/bin/python tools/evaluator_augment.py --real XIA_TRAIN_DIR [--grid XIA_GRID_DIR] [--only NAME,...]
     .venv/bin/python tools/evaluator_augment.py --summarise
 
 XIA_TRAIN_DIR and XIA_GRID_DIR are dataset folders made by `python -m data_prep.bvh … --labels xia`. Each
-candidate (CANDIDATES) trains the style evaluator on the built-in style corpus with the course preset, one
-`Augment` and perhaps a shorter schedule, then scores it on the built-in val and test clips and on every real
+candidate (CANDIDATES) trains the style evaluator on the built-in style corpus with the course preset and one
+change — an `Augment`, a shorter schedule, weight decay, a slower learning rate, more dropout or a narrower
+net (regularisers that might keep it from the generator's quirks) — then scores it on the built-in val and test clips and on every real
 train take (whole takes, window-averaged). Rule (RULE): the highest accuracy on the real train takes among
 candidates that keep the built-in val clips ≥ BUILTIN_FLOOR %, averaged over SEEDS. The grid's takes are
 scored for the record only — never read by the rule. Rows land in notebooks/data/00_evaluator_augment.json;
@@ -24,15 +25,19 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
 
 OUT = DATA_DIR / "00_evaluator_augment.json"
-CANDIDATES = {  # name → (Augment fields, training overrides of the course preset)
-    "none": ({}, {}),
-    "mirror": ({"mirror": 0.5}, {}),
-    "tempo": ({"tempo": 0.25}, {}),
-    "noise": ({"noise": 0.1}, {}),
-    "mirror+tempo": ({"mirror": 0.5, "tempo": 0.25}, {}),
-    "all": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {}),
-    "shorter": ({}, {"steps": 400}),
-    "all+shorter": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {"steps": 400}),
+CANDIDATES = {  # name → (Augment fields, training overrides of the course preset, network sizes)
+    "none": ({}, {}, {}),
+    "mirror": ({"mirror": 0.5}, {}, {}),
+    "tempo": ({"tempo": 0.25}, {}, {}),
+    "noise": ({"noise": 0.1}, {}, {}),
+    "mirror+tempo": ({"mirror": 0.5, "tempo": 0.25}, {}, {}),
+    "all": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {}, {}),
+    "shorter": ({}, {"steps": 400}, {}),
+    "all+shorter": ({"mirror": 0.5, "tempo": 0.25, "noise": 0.1}, {"steps": 400}, {}),
+    "weight-decay": ({}, {"weight_decay": 0.5}, {}),
+    "slower-lr": ({}, {"lr": 5e-4}, {}),
+    "dropout-0.5": ({}, {}, {"dropout": 0.5}),
+    "narrow": ({}, {}, {"width": 32, "feature_dim": 32}),
 }
 SEEDS = (0, 1)
 BUILTIN_FLOOR = 95.0
@@ -91,10 +96,10 @@ def main(argv=None) -> int:
     for name in todo:
         for seed in SEEDS:
             t0 = time.time()
-            fields, overrides = CANDIDATES[name]
+            fields, overrides, net = CANDIDATES[name]
             model, _ = train_classifier("style", style, seed=seed, progress=False, augment=Augment(**fields),
-                                        **overrides)
-            row = {"candidate": name, "augment": fields, "overrides": overrides, "seed": seed,
+                                        net=net, **overrides)
+            row = {"candidate": name, "augment": fields, "overrides": overrides, "net": net, "seed": seed,
                    "builtin_val": round(test_accuracy(model, style, "val"), 2),
                    "builtin_test": round(test_accuracy(model, style, "test"), 2),
                    "real_train_takes": take_scores(model, real)["accuracy"],

@@ -130,7 +130,8 @@ def reverse_bound(real_clips, Xb, yb, cb, C: float, splits: int = REVERSE_SPLITS
         others = [k for k in clips if content_group(k[0]["content"]) not in ("walk", None)]
         return [(R.linear_scores(clf, part).get("takes") or {"accuracy": np.nan})["accuracy"]
                 for part in (clips, walks, others)]
-    names = ("as generated", "cell means matched", "cell means and spreads matched", "real judge (ceiling)")
+    names = ("built-in as generated", "built-in, cell means matched", "built-in, cell means and spreads matched",
+             "real takes (the ceiling)")
     got = {n: [] for n in names}
     rng = np.random.default_rng(seed)
     for _ in range(splits):
@@ -209,7 +210,7 @@ def main(argv=None) -> int:
           f"along the real styles' directions {sp['real_directions']['median']}, along the built-in styles' "
           f"{sp['builtin_directions']['median']}")
     for r in table["reverse"]["rows"]:
-        print(f"built-in → real, {r['judge trained on']:<32} real held-out takes {r['takes']}  walks "
+        print(f"built-in → real, trained on {r['judge trained on']:<42} real held-out takes {r['takes']}  walks "
               f"{r['walk takes']}  other contents {r['other takes']}")
     print(f"→ {out}")
     return 0

@@ -8,8 +8,9 @@ than a window is padded by holding its last frame. Real takes are often that sho
 last about a second), so in training a share of the windows (SHORT_SHARE) is cut shorter and padded
 the same way: otherwise the held frames are something the classifier never saw. No method trains
 on these classifiers or their features. `Augment` (mirror, tempo, noise) is there for the search of
-tools/evaluator_augment.py; the packaged classifiers train without it, since no augmentation recognised
-more real takes than a second training seed does.
+tools/evaluator_augment.py; the packaged classifiers train without it, since no augmentation — nor weight
+decay, more dropout, a narrower net or a slower learning rate — recognised more real takes than a second
+training seed does.
 """
 from __future__ import annotations
 
@@ -185,6 +186,7 @@ PRESETS = {  # steps of the one training loop (mslib.training) per classifier
     "paper": {"steps": 6000, "batch_size": 128, "lr": 1e-3, "warmup_steps": 200, "val_every": 500},
 }
 NAMES = {"content": "evaluator_content", "style": "evaluator_style"}
+NET_FIELDS = ("width", "feature_dim", "dropout")  # what `net` may change of ClassifierConfig
 
 
 def _load_split(folder, split: str | None, label: str):
@@ -199,13 +201,17 @@ def _load_split(folder, split: str | None, label: str):
 
 def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, out=None,
                      device: str = "cpu", progress: bool = True, classes=None, resume=None,
-                     augment: Augment | None = None, **overrides) -> tuple:
-    """Train the content or style classifier on a dataset folder's train split; returns (model, history)."""
+                     augment: Augment | None = None, net: dict | None = None, **overrides) -> tuple:
+    """Train the content or style classifier on a dataset folder's train split; returns (model, history).
+    `net` changes the network's sizes (NET_FIELDS), `overrides` the preset's training settings."""
     from ..training import TrainConfig, fit
     if kind not in NAMES:
         raise ValueError(f"kind: expected 'content' or 'style', got {kind!r}")
     if preset not in PRESETS:
         raise ValueError(f"preset: expected one of {list(PRESETS)}, got {preset!r}")
+    unknown_net = sorted(set(net or {}) - set(NET_FIELDS))
+    if unknown_net:
+        raise ValueError(f"net: {unknown_net} cannot be changed; expected some of {list(NET_FIELDS)}")
     label = kind
     train_j, train_y = _load_split(folder, "train", label)
     val_j, val_y = _load_split(folder, "val", label)
@@ -217,7 +223,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
     train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed, short=SHORT_SHARE, augment=augment)
     val_set = WindowDataset(val_j, [index[y] for y in val_y], seed=seed + 1)
     torch.manual_seed(seed)
-    model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes)), classes)
+    model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes), **(net or {})), classes)
     model.mean, model.std = train_set.stats()
     cfg = TrainConfig(seed=seed, **{**PRESETS[preset], **overrides})
     history = fit(model, train_set, cfg, val_set=val_set, model_name=NAMES[kind], out=out,
