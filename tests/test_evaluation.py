@@ -138,6 +138,12 @@ def test_by_style_known_answers():
     assert (sexy["read_as"], sexy["read_as_share"]) == ("calm", 50.0)  # a tie goes to the first name: calm, proud
     with pytest.raises(ValueError, match="one per pair"):
         bench.by_style(outputs[:2], pairs, Stub())
+    # the same outputs per content, and a sixth pair whose content the classifier does not know
+    rows = bench.by_content(outputs + [(2, 1)], pairs + [({"content": ""}, {"style": "sexy"})], Stub())
+    assert [r["content"] for r in rows] == ["jump", "walk"] and [r["n"] for r in rows] == [2, 3]
+    jump, walk = rows
+    assert jump["cra"] == 50.0 and jump["sra"] == 0.0 and (jump["read_as"], jump["read_as_share"]) == ("jump", 50.0)
+    assert walk["cra"] == pytest.approx(200 / 3) and (walk["read_as"], walk["read_as_share"]) == ("walk", pytest.approx(200 / 3))
 
 
 # ---------------------------------------------------------------- the packaged evaluator on the built-in data

@@ -125,20 +125,33 @@ def evaluate(outputs, pairs, evaluator: Evaluator) -> dict:
 
 def by_style(outputs, pairs, evaluator: Evaluator) -> list:
     """SRA and CRA over the pairs of each style (sorted by name), with the style its outputs are read as most often."""
+    return _breakdown(outputs, pairs, evaluator, "style")
+
+
+def by_content(outputs, pairs, evaluator: Evaluator) -> list:
+    """SRA and CRA over the pairs of each content label the content classifier knows (sorted by name), with the
+    content its outputs are read as most often: which actions a method keeps and which it turns into another."""
+    return _breakdown(outputs, pairs, evaluator, "content")
+
+
+def _breakdown(outputs, pairs, evaluator: Evaluator, key: str) -> list:
+    """Per value of the pairs' `key` label ("style": of the style clip, "content": of the content clip)."""
     if len(outputs) != len(pairs) or not pairs:
         raise ValueError(f"outputs: expected one per pair ({len(pairs)} pairs, at least one), got {len(outputs)}")
     c_logits, s_logits, _ = evaluator.score(outputs)
-    read_as = np.array([evaluator.style.classes[i] for i in s_logits.argmax(1)])
+    s_read = np.array([evaluator.style.classes[i] for i in s_logits.argmax(1)])
     c_read = np.array([evaluator.content.classes[i] for i in c_logits.argmax(1)])
     styles = np.array([s["style"] for _, s in pairs])
     contents = np.array([c["content"] for c, _ in pairs])
+    labels, read_as = (styles, s_read) if key == "style" else (contents, c_read)
+    names = sorted(set(labels)) if key == "style" else sorted(set(labels) & set(evaluator.content.classes))
     rows = []
-    for name in sorted(set(styles)):
-        mine = styles == name
+    for name in names:
+        mine = labels == name
         seen, counts = np.unique(read_as[mine], return_counts=True)
         top = int(np.argmax(counts))  # ties: the first name alphabetically
-        rows.append({"style": str(name), "n": int(mine.sum()),
-                     "sra": float(100.0 * (read_as[mine] == name).mean()),
+        rows.append({key: str(name), "n": int(mine.sum()),
+                     "sra": float(100.0 * (s_read[mine] == styles[mine]).mean()),
                      "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()),
                      "read_as": str(seen[top]), "read_as_share": float(100.0 * counts[top] / mine.sum())})
     return rows

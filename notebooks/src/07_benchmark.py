@@ -205,6 +205,10 @@ else:
     print(f"\nreal judge: the best learned row ({best['method']}) reaches SRA {best['sra']:.1f} % against "
           f"identity's {ident['sra']:.1f} %; the real judges recognise the grid's own takes at "
           f"{real['judges_on_the_grid']['real_style_accuracy']:.0f} % (style)")
+    print("\nreal judge, content kept (CRA) per action of the content clip:")
+    for method, kept in real.get("by_content", {}).get("real", {}).items():
+        if method not in ("identity", "copy_style"):
+            print(f"{method:<13} " + "  ".join(f"{r['content']} {r['cra']:5.1f}" for r in kept))
 
 # %% [markdown]
 # **Reading the two tables.** The packaged evaluator learned its classes from built-in motion only: on
@@ -213,6 +217,10 @@ else:
 # keeps more content than copy_style, takes more style than identity and has a higher H than both
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
+# The last lines split the real judge's CRA by the action of the content clip: each method keeps some
+# actions well and loses others, and not the same ones — adain most of the walks, adain+dsdn most runs,
+# contrastive and clusterstyle nearly every punch, mcm_ldm most jumps and kicks. A real action the built-in corpus shows differently
+# (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps more of the
 # real content but smooths part of the real style back out (its SRA is below adain's), so by the real
 # judge its H is lower than adain's — the reverse of the built-in table. That gap is the honest state of
