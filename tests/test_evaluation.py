@@ -144,6 +144,13 @@ def test_by_style_known_answers():
     jump, walk = rows
     assert jump["cra"] == 50.0 and jump["sra"] == 0.0 and (jump["read_as"], jump["read_as_share"]) == ("jump", 50.0)
     assert walk["cra"] == pytest.approx(200 / 3) and (walk["read_as"], walk["read_as_share"]) == ("walk", pytest.approx(200 / 3))
+    named = [({**c, "clip_id": k}, s) for (c, s), k in zip(pairs + [({"content": ""}, {"style": "sexy"})],
+                                                         ["w1", "w1", "w2", "j1", "j1", "x"])]
+    rows = bench.by_content_clip(outputs + [(2, 1)], named, Stub())
+    assert [(r["clip"], r["content"], r["n"]) for r in rows] == [("w1", "walk", 2), ("w2", "walk", 1),
+                                                                 ("j1", "jump", 2), ("x", "", 1)]
+    assert [r["cra"] for r in rows] == [50.0, 100.0, 50.0, None]  # no label the classifier knows: no CRA
+    assert rows[1]["read_as"] == "walk" and rows[3]["read_as"] == "walk" and rows[3]["sra"] == 100.0
 
 
 # ---------------------------------------------------------------- the packaged evaluator on the built-in data

@@ -63,11 +63,11 @@ def train_judges(xia_train: Path, workdir: Path) -> dict:
 
 def score_real_pairs(xia_train_bvh, xia_grid_bvh, content_specs, workdir, methods, n_pairs=None) -> dict:
     """Convert both Xia splits and train the real judges into `workdir` (once), then every method on the real pairs,
-    scored by both judges: {"rows": {judge: [bench rows]}, "by_content": {judge: {method: by_content rows}}, "pairs",
-    "grid", "train", "judges"}. One torch thread
+    scored by both judges: {"rows": {judge: [bench rows]}, "by_content" and "by_content_clip": {judge: {method:
+    rows}}, "pairs", "grid", "train", "judges"}. One torch thread
     (restored after): the models are small, and every digit is then independent of the cores."""
     import torch
-    from mslib.evaluation.bench import Evaluator, bench_row, by_content, transfer_pairs
+    from mslib.evaluation.bench import Evaluator, bench_row, by_content, by_content_clip, transfer_pairs
     from mslib.evaluation.real_pairs import real_pairs
     threads = torch.get_num_threads()
     torch.set_num_threads(1)
@@ -79,15 +79,17 @@ def score_real_pairs(xia_train_bvh, xia_grid_bvh, content_specs, workdir, method
         judges = train_judges(train, work)
         pairs = real_pairs(grid, content_specs, n_pairs)
         evaluators = {"packaged": Evaluator(), "real": Evaluator(judges["content"], judges["style"])}
-        rows, contents = {j: [] for j in JUDGES}, {j: {} for j in JUDGES}
+        rows, contents, clips = {j: [] for j in JUDGES}, {j: {} for j in JUDGES}, {j: {} for j in JUDGES}
         for method in methods:
             outputs, seconds = transfer_pairs(method, pairs, progress=True)
             for judge, ev in evaluators.items():
                 rows[judge].append(bench_row(method, 0, outputs, pairs, ev, seconds))
                 contents[judge][method] = by_content(outputs, pairs, ev)
+                clips[judge][method] = by_content_clip(outputs, pairs, ev)
     finally:
         torch.set_num_threads(threads)
-    return {"rows": rows, "by_content": contents, "pairs": pairs, "grid": grid, "train": train, "judges": judges}
+    return {"rows": rows, "by_content": contents, "by_content_clip": clips, "pairs": pairs, "grid": grid,
+            "train": train, "judges": judges}
 
 
 def main(argv=None) -> int:
@@ -118,7 +120,8 @@ def main(argv=None) -> int:
     contents = sorted({c["clip_id"]: c["content"] for c, _ in pairs}.items())
     files = [parse_content_spec(s)[0] for s in args.content]
     section = {
-        "rows": rows, "by_content": run["by_content"], "pairs": len(pairs), "contents": [{"clip": k, "content": v} for k, v in contents],
+        "rows": rows, "by_content": run["by_content"], "by_content_clip": run["by_content_clip"], "pairs": len(pairs),
+        "contents": [{"clip": k, "content": v} for k, v in contents],
         "styles": len({s["clip_id"] for _, s in pairs}),
         "judges_on_the_grid": {"real_style_accuracy": judge_acc["style"], "real_content_accuracy": judge_acc["content"]},
         "data": {"xia_train": folder_digest(run["train"]), "xia_grid": folder_digest(grid),

@@ -134,8 +134,15 @@ def by_content(outputs, pairs, evaluator: Evaluator) -> list:
     return _breakdown(outputs, pairs, evaluator, "content")
 
 
+def by_content_clip(outputs, pairs, evaluator: Evaluator) -> list:
+    """`by_content` per content clip (in the pairs' order), each row also naming its clip's content label; CRA is
+    None for a clip whose label the content classifier does not know."""
+    return _breakdown(outputs, pairs, evaluator, "clip")
+
+
 def _breakdown(outputs, pairs, evaluator: Evaluator, key: str) -> list:
-    """Per value of the pairs' `key` label ("style": of the style clip, "content": of the content clip)."""
+    """Per value of the pairs' `key` label ("style": of the style clip, "content": of the content clip, "clip":
+    the content clip itself)."""
     if len(outputs) != len(pairs) or not pairs:
         raise ValueError(f"outputs: expected one per pair ({len(pairs)} pairs, at least one), got {len(outputs)}")
     c_logits, s_logits, _ = evaluator.score(outputs)
@@ -143,16 +150,19 @@ def _breakdown(outputs, pairs, evaluator: Evaluator, key: str) -> list:
     c_read = np.array([evaluator.content.classes[i] for i in c_logits.argmax(1)])
     styles = np.array([s["style"] for _, s in pairs])
     contents = np.array([c["content"] for c, _ in pairs])
-    labels, read_as = (styles, s_read) if key == "style" else (contents, c_read)
-    names = sorted(set(labels)) if key == "style" else sorted(set(labels) & set(evaluator.content.classes))
+    clips = np.array([c.get("clip_id", "") for c, _ in pairs])
+    labels, read_as = {"style": (styles, s_read), "content": (contents, c_read), "clip": (clips, c_read)}[key]
+    names = (sorted(set(labels)) if key == "style" else list(dict.fromkeys(clips)) if key == "clip"
+             else sorted(set(labels) & set(evaluator.content.classes)))
     rows = []
     for name in names:
         mine = labels == name
         seen, counts = np.unique(read_as[mine], return_counts=True)
         top = int(np.argmax(counts))  # ties: the first name alphabetically
-        rows.append({key: str(name), "n": int(mine.sum()),
-                     "sra": float(100.0 * (s_read[mine] == styles[mine]).mean()),
-                     "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()),
+        known = contents[mine][0] in evaluator.content.classes
+        rows.append({key: str(name), **({"content": str(contents[mine][0])} if key == "clip" else {}),
+                     "n": int(mine.sum()), "sra": float(100.0 * (s_read[mine] == styles[mine]).mean()),
+                     "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()) if known or key != "clip" else None,
                      "read_as": str(seen[top]), "read_as_share": float(100.0 * counts[top] / mine.sum())})
     return rows
 
