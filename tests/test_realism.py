@@ -188,9 +188,10 @@ def test_report_structure_save_and_plot(tiny):
     rb, br = report["real_to_builtin"], report["builtin_to_real"]
     assert rb["classes"] == ["neutral", "old"] and rb["real_test_windows"]["chance"] == 50.0
     assert rb["builtin_test_windows"]["n"] > 0 and rb["C"] in R.C_CHOICES
+    assert rb["builtin_train_windows"]["n"] > 0  # the train clips are read too: the steadier figure
     assert sum(map(sum, rb["builtin_test_windows"]["confusion"]["counts"])) == rb["builtin_test_windows"]["n"]
-    for which in ("builtin", "real"):  # every window counted once, under its content
-        by_content, whole = rb[f"{which}_test_by_content"], rb[f"{which}_test_windows"]
+    for which in ("builtin_test", "real_test", "builtin_train"):  # every window counted once, under its content
+        by_content, whole = rb[f"{which}_by_content"], rb[f"{which}_windows"]
         assert sum(v["n"] for v in by_content.values()) == whole["n"]
         assert sum(v["n"] * v["accuracy"] for v in by_content.values()) / whole["n"] == \
             pytest.approx(whole["accuracy"], abs=0.1)

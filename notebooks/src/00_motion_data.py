@@ -223,7 +223,10 @@ print(format_cross_scores(realism))
 # built-in one; the real proud walker swings his arms widest, and so does the built-in one. The cross
 # scores are the hard test. The judge trained on real takes now reads most built-in windows as their
 # own style: the walks and runs about as often as it reads real test windows right, the jumps, punches
-# and kicks less often (the *by content* line). Those cells were fitted to a handful of real windows
+# and kicks less often (the *by content* line). The built-in test split holds only a take or two of each
+# style, sub-style and content, so which takes it holds moves its figure by several points; the line for
+# the built-in *train* windows reads five times as many takes (none of them chose anything in the
+# generator) and is the steadier figure. Those cells were fitted to a handful of real windows
 # each, and the per-joint layer can only match where a style's windows fall on average, not how the
 # cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
 # at where windows fall among the real styles, not at these cues, and every built-in walker is now
