@@ -241,6 +241,44 @@ def test_realism_gap_reverse_bound_undoes_swapped_built_in_styles():
     assert rows["built-in, cell means and spreads matched"]["takes"] == 100.0
     assert rows["built-in as generated"]["other takes"] is None  # no other content: no score, not a zero
 
+
+def test_realism_gap_moved_inputs_give_each_cell_the_real_frames_mean_and_spread():
+    import numpy as np
+    from tools.realism_gap import moved_inputs
+    rng = np.random.default_rng(4)
+    inputs = [rng.normal(size=(10, 3)).astype(np.float32) for _ in range(4)]
+    keys = [("a", "walk"), ("a", "walk"), ("b", "walk"), ("b", "kick")]
+    real = {("a", "walk"): rng.normal(5.0, 2.0, size=(30, 3)), ("b", "walk"): rng.normal(-1.0, 0.5, size=(7, 3))}
+    for spread in (False, True):
+        out = moved_inputs(inputs, keys, real, spread)
+        a = np.concatenate(out[:2])
+        assert np.allclose(a.mean(0), real[("a", "walk")].mean(0), atol=1e-5)
+        assert np.allclose(a.std(0), real[("a", "walk")].std(0) if spread else np.concatenate(inputs[:2]).std(0), atol=1e-5)
+        assert np.allclose(out[2].mean(0), real[("b", "walk")].mean(0), atol=1e-5)
+        assert out[3] is inputs[3]  # no real kick of b: untouched
+
+
+def test_realism_gap_reverse_network_undoes_swapped_built_in_styles(monkeypatch):
+    """As test_realism_gap_reverse_bound_undoes_swapped_built_in_styles, for the evaluator's recipe (a short run)."""
+    import numpy as np
+    from mslib.evaluation import evaluator as E
+    from mslib.motion.skeleton import HUMANML3D
+    from tools.realism_gap import reverse_network
+    monkeypatch.setitem(E.PRESETS, "course", {**E.PRESETS["course"], "steps": 60, "val_every": 60})
+    rng = np.random.default_rng(5)
+    rest = HUMANML3D.rest_positions() + np.array([0.0, 0.95, 0.0])
+
+    def clip(i, style, split=None, swap=False):
+        joints = rest + rng.normal(0.0, 1e-3, size=(40, 22, 3))
+        joints[:, [9, *range(12, 22)], 2] += 0.15 if style == "a" else -0.05
+        label = {"a": "b", "b": "a"}[style] if swap else style
+        return {"clip_id": f"{split or 'r'}{i}", "style": label, "content": "walk", "split": split}, joints
+    real = [clip(i, "ab"[i % 2]) for i in range(24)]
+    built = [clip(i, "ab"[i % 2], "train" if i < 16 else "val", swap=True) for i in range(24)]
+    rows = {r["judge trained on"]: r for r in reverse_network(real, built)["rows"]}
+    assert rows["built-in as generated"]["takes"] < 20 and rows["built-in as generated"]["other takes"] is None
+    assert rows["built-in, cell mean poses matched"]["takes"] > 80
+
 # ---------------------------------------------------------------- tools/train_all.py
 def test_train_all_plans_every_checkpoint_after_what_it_reads():
     from tools import train_all as T

@@ -27,7 +27,10 @@ and per-feature spreads moved, x' = μ_real + (x − μ_built)·σ_real/σ_built
 estimated on one half of the real train takes and the judge reads the other half (takes, window probabilities
 averaged; REVERSE_SPLITS random halves, each both ways), walks and the other contents apart; the real judge
 trained on the first half is the ceiling. It says how far a built-in corpus that matched real cells could take
-a judge trained on it alone.
+a judge trained on it alone. `reverse_network` asks the same of the packaged evaluator's own recipe (the conv net
+on 64-d frames: root height and root-relative joints), on the first of those halves both ways: trained on the
+built-in style train clips as generated, with every cell's frames moved to the real cell's mean pose, and to its
+mean and spread, frame dimension by frame dimension.
 
 This is a diagnosis, not a generator: the real means are those of the very windows the judge learned from, so a
 full per-cell shift is an upper bound of what matching means could do. It answers which feature groups a
@@ -98,6 +101,18 @@ def spread_ratios(X, y, c, Xb, yb, cb, min_windows: int = SPREAD_MIN_WINDOWS) ->
     return out
 
 
+def take_rows(got: dict) -> list:
+    """{judge: [[all, walks, others] per half]} → rows of mean accuracies (None where no half had such takes)."""
+    import numpy as np
+
+    def mean(v):
+        v = np.asarray(v, float)
+        return round(float(np.nanmean(v)), 1) if np.isfinite(v).any() else None
+    return [{"judge trained on": n, **{part: mean([g[i] for g in halves])
+                                       for i, part in enumerate(("takes", "walk takes", "other takes"))}}
+            for n, halves in got.items()]
+
+
 def rescaled(Xb, yb, cb, X, y, c):
     """Built-in features Xb with every cell moved to the real cell's mean and per-feature spread (cells with ≥ 2 of each)."""
     import numpy as np
@@ -143,12 +158,66 @@ def reverse_bound(real_clips, Xb, yb, cb, C: float, splits: int = REVERSE_SPLITS
             moved_means = shifted(Xb, yb, cb, X, y, c, columns(GROUPS), 1.0, "cell")
             for name, (XX, yy) in zip(names, ((Xb, yb), (moved_means, yb), (rescaled(Xb, yb, cb, X, y, c), yb), (X, y))):
                 got[name].append(read(judge(XX, yy), read_half))
-    def mean(v):
-        v = np.asarray(v, float)
-        return round(float(np.nanmean(v)), 1) if np.isfinite(v).any() else None
-    return {"C": C, "splits": splits, "rows": [
-        {"judge trained on": n, **{part: mean([g[i] for g in got[n]])
-                                   for i, part in enumerate(("takes", "walk takes", "other takes"))}} for n in names]}
+    return {"C": C, "splits": splits, "rows": take_rows(got)}
+
+
+def moved_inputs(inputs, keys, real_by_cell: dict, spread: bool) -> list:
+    """Each clip's (T, 64) evaluator input moved so that its cell's frames (cell = keys[i]) take the real cell's
+    mean (and, with `spread`, per-dimension spread); cells without real frames stay as they are."""
+    import numpy as np
+    out = list(inputs)
+    for key in set(keys):
+        if key not in real_by_cell:
+            continue
+        mine = [i for i, k in enumerate(keys) if k == key]
+        built, real = np.concatenate([inputs[i] for i in mine]), real_by_cell[key]
+        sb = built.std(0)
+        scale = np.where(sb > 0, real.std(0) / np.where(sb > 0, sb, 1.0), 1.0) if spread else 1.0
+        for i in mine:
+            out[i] = (real.mean(0) + (inputs[i] - built.mean(0)) * scale).astype(np.float32)
+    return out
+
+
+def reverse_network(real_clips, builtin_clips, seed: int = 0) -> dict:
+    """Real held-out take accuracy (%) of the style evaluator's recipe trained on built-in train clips as generated,
+    with cell mean poses moved to real ones, and with their means and spreads moved (one random half both ways)."""
+    import numpy as np
+    import torch
+    from mslib.evaluation import evaluator as E
+    from mslib.evaluation.realism import take_scores
+    from tools.fit_styles import content_group
+    train = [(r, j) for r, j in builtin_clips if r["split"] == "train"]
+    val = [(r, j) for r, j in builtin_clips if r["split"] == "val"]
+    classes = sorted({r["style"] for r, _ in train})
+    index = {c: i for i, c in enumerate(classes)}
+    keys = [(r["style"], r["content"]) for r, _ in train]
+    names = ("built-in as generated", "built-in, cell mean poses matched", "built-in, cell pose means and spreads matched")
+    got = {n: [] for n in names}
+    order = np.random.default_rng(seed).permutation(len(real_clips))  # reverse_bound's first halves
+    halves = [[real_clips[i] for i in order[:len(order) // 2]], [real_clips[i] for i in order[len(order) // 2:]]]
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        for fit_half, read_half in (halves, halves[::-1]):
+            real_by_cell: dict = {}
+            for r, j in fit_half:
+                if content_group(r["content"]) is not None:
+                    real_by_cell.setdefault((r["style"], content_group(r["content"])), []).append(E.classifier_input(j))
+            real_by_cell = {k: np.concatenate(v) for k, v in real_by_cell.items()}
+            walks = [k for k in read_half if content_group(k[0]["content"]) == "walk"]
+            others = [k for k in read_half if content_group(k[0]["content"]) not in ("walk", None)]
+            val_set = E.WindowDataset([j for _, j in val], [index[r["style"]] for r, _ in val], seed=seed + 1)
+            for name, spread in zip(names, (None, False, True)):
+                train_set = E.WindowDataset([j for _, j in train], [index[y] for y, _ in keys], seed=seed,
+                                            short=E.SHORT_SHARE)
+                if spread is not None:
+                    train_set.inputs = moved_inputs(train_set.inputs, keys, real_by_cell, spread)
+                model, _ = E.fit_classifier("style", train_set, val_set, classes, seed=seed, progress=False)
+                got[name].append([take_scores(model, part)["accuracy"] if part else np.nan
+                                  for part in (read_half, walks, others)])
+    finally:
+        torch.set_num_threads(threads)
+    return {"recipe": "the packaged style evaluator's (course preset)", "seed": seed, "rows": take_rows(got)}
 
 
 def accuracy_by_content(pred, yb, cb) -> dict:
@@ -171,7 +240,8 @@ def measure(real, progress: bool = True) -> dict:
     c = np.array([str(content_group(x)) for x in c])  # transitions ("None") train the judge, shift nothing
     judge, C = R.fit_window_classifier(X, y, g)  # (model, its C and CV scores): the realism report's judge, on every real train window
     builtin = load_builtin(progress=progress)["style"]
-    Xb, yb, _, cb, _ = R._windowed([(r, j) for r, j in R.read_clips(builtin, "--builtin") if r["split"] == "test"])
+    built = R.read_clips(builtin, "--builtin")
+    Xb, yb, _, cb, _ = R._windowed([(r, j) for r, j in built if r["split"] == "test"])
     rows = [{"shift": "none (the built-in windows as generated)", **accuracy_by_content(judge.predict(Xb), yb, cb)}]
     for label, groups, share, mode in ROWS:
         moved = shifted(Xb, yb, cb, X, y, c, columns(groups), share, mode)
@@ -180,9 +250,12 @@ def measure(real, progress: bool = True) -> dict:
         if progress:
             print(rows[-1], flush=True)
     cells = {k: {s: int(((c == k) & (y == s)).sum()) for s in sorted(set(y))} for k in sorted(set(cb))}
-    Xt, yt, gt, ct, _ = R._windowed([(r, j) for r, j in R.read_clips(builtin, "--builtin") if r["split"] == "train"])
+    Xt, yt, gt, ct, _ = R._windowed([(r, j) for r, j in built if r["split"] == "train"])
     _, Ct = R.fit_window_classifier(Xt, yt, gt)  # C of the reversed judge, chosen once on the windows as generated
     reverse = reverse_bound(real_clips, Xt, yt, ct, Ct["C"])
+    if progress:
+        print("training the style evaluator's recipe six times for reverse_network …", flush=True)
+    reverse["network"] = reverse_network(real_clips, built)
     return {"rows": rows, "spreads": spread_ratios(X, y, c, Xb, yb, cb), "reverse": reverse, "judge": C,
             "real": {"folder": Path(real).name, "digest": R.folder_digest(real)},
             "builtin": R.builtin_info(builtin), "real_windows_per_cell": cells}
@@ -209,9 +282,10 @@ def main(argv=None) -> int:
     print(f"spread of built-in / real windows per cell (median over {len(sp['real_directions']['cells'])} cells): "
           f"along the real styles' directions {sp['real_directions']['median']}, along the built-in styles' "
           f"{sp['builtin_directions']['median']}")
-    for r in table["reverse"]["rows"]:
-        print(f"built-in → real, trained on {r['judge trained on']:<42} real held-out takes {r['takes']}  walks "
-              f"{r['walk takes']}  other contents {r['other takes']}")
+    for judge, rows in (("linear judge", table["reverse"]["rows"]), ("evaluator's net", table["reverse"]["network"]["rows"])):
+        for r in rows:
+            print(f"built-in → real, {judge} trained on {r['judge trained on']:<46} real held-out takes {r['takes']}  "
+                  f"walks {r['walk takes']}  other contents {r['other takes']}")
     print(f"→ {out}")
     return 0
 

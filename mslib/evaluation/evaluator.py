@@ -204,14 +204,7 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
                      augment: Augment | None = None, net: dict | None = None, **overrides) -> tuple:
     """Train the content or style classifier on a dataset folder's train split; returns (model, history).
     `net` changes the network's sizes (NET_FIELDS), `overrides` the preset's training settings."""
-    from ..training import TrainConfig, fit
-    if kind not in NAMES:
-        raise ValueError(f"kind: expected 'content' or 'style', got {kind!r}")
-    if preset not in PRESETS:
-        raise ValueError(f"preset: expected one of {list(PRESETS)}, got {preset!r}")
-    unknown_net = sorted(set(net or {}) - set(NET_FIELDS))
-    if unknown_net:
-        raise ValueError(f"net: {unknown_net} cannot be changed; expected some of {list(NET_FIELDS)}")
+    _check_training(kind, preset, net)  # before reading the folder: fail fast
     label = kind
     train_j, train_y = _load_split(folder, "train", label)
     val_j, val_y = _load_split(folder, "val", label)
@@ -222,13 +215,34 @@ def train_classifier(kind: str, folder, preset: str = "course", seed: int = 0, o
         raise ValueError(f"{folder}: labels {unknown} are not among the classes {classes}")
     train_set = WindowDataset(train_j, [index[y] for y in train_y], seed=seed, short=SHORT_SHARE, augment=augment)
     val_set = WindowDataset(val_j, [index[y] for y in val_y], seed=seed + 1)
+    return fit_classifier(kind, train_set, val_set, classes, preset, seed, out, device, progress, resume, net,
+                          **overrides)
+
+
+def fit_classifier(kind: str, train_set: WindowDataset, val_set: WindowDataset, classes, preset: str = "course",
+                   seed: int = 0, out=None, device: str = "cpu", progress: bool = True, resume=None,
+                   net: dict | None = None, **overrides) -> tuple:
+    """The training loop of `train_classifier` on datasets made by the caller (e.g. with inputs moved)."""
+    from ..training import TrainConfig, fit
+    _check_training(kind, preset, net)
     torch.manual_seed(seed)
-    model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes), **(net or {})), classes)
+    model = MotionClassifier(ClassifierConfig(kind=kind, n_classes=len(classes), **(net or {})), list(classes))
     model.mean, model.std = train_set.stats()
     cfg = TrainConfig(seed=seed, **{**PRESETS[preset], **overrides})
     history = fit(model, train_set, cfg, val_set=val_set, model_name=NAMES[kind], out=out,
                   device=device, progress=progress, resume=resume)
     return model.eval(), history
+
+
+def _check_training(kind: str, preset: str, net) -> None:
+    """ValueError for an unknown kind, preset or network field."""
+    if kind not in NAMES:
+        raise ValueError(f"kind: expected 'content' or 'style', got {kind!r}")
+    if preset not in PRESETS:
+        raise ValueError(f"preset: expected one of {list(PRESETS)}, got {preset!r}")
+    unknown_net = sorted(set(net or {}) - set(NET_FIELDS))
+    if unknown_net:
+        raise ValueError(f"net: {unknown_net} cannot be changed; expected some of {list(NET_FIELDS)}")
 
 
 def load_classifier(kind: str, path=None) -> MotionClassifier:
