@@ -150,19 +150,23 @@ def _breakdown(outputs, pairs, evaluator: Evaluator, key: str) -> list:
     c_read = np.array([evaluator.content.classes[i] for i in c_logits.argmax(1)])
     styles = np.array([s["style"] for _, s in pairs])
     contents = np.array([c["content"] for c, _ in pairs])
-    clips = np.array([c.get("clip_id", "") for c, _ in pairs])
-    labels, read_as = {"style": (styles, s_read), "content": (contents, c_read), "clip": (clips, c_read)}[key]
-    names = (sorted(set(labels)) if key == "style" else list(dict.fromkeys(clips)) if key == "clip"
-             else sorted(set(labels) & set(evaluator.content.classes)))
+    if key == "style":
+        labels, read_as, names = styles, s_read, sorted(set(styles))
+    elif key == "content":
+        labels, read_as, names = contents, c_read, sorted(set(contents) & set(evaluator.content.classes))
+    else:  # each content clip, in the pairs' order
+        labels = np.array([c.get("clip_id", "") for c, _ in pairs])
+        read_as, names = c_read, list(dict.fromkeys(labels))
     rows = []
     for name in names:
         mine = labels == name
         seen, counts = np.unique(read_as[mine], return_counts=True)
         top = int(np.argmax(counts))  # ties: the first name alphabetically
-        known = contents[mine][0] in evaluator.content.classes
-        rows.append({key: str(name), **({"content": str(contents[mine][0])} if key == "clip" else {}),
-                     "n": int(mine.sum()), "sra": float(100.0 * (s_read[mine] == styles[mine]).mean()),
-                     "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()) if known or key != "clip" else None,
+        label = str(contents[mine][0])  # a clip's one content label: without one the classifier knows, no CRA
+        known = key != "clip" or label in evaluator.content.classes
+        rows.append({key: str(name), **({"content": label} if key == "clip" else {}), "n": int(mine.sum()),
+                     "sra": float(100.0 * (s_read[mine] == styles[mine]).mean()),
+                     "cra": float(100.0 * (c_read[mine] == contents[mine]).mean()) if known else None,
                      "read_as": str(seen[top]), "read_as_share": float(100.0 * counts[top] / mine.sum())})
     return rows
 
