@@ -113,6 +113,15 @@ def take_rows(got: dict) -> list:
             for n, halves in got.items()]
 
 
+def to_real(built, real, spread: bool):
+    """Rows of `built` moved to the mean of the rows of `real` and, with `spread`, to their per-column spread too
+    (x' = μ_real + (x − μ_built)·σ_real/σ_built; a column flat in `built` keeps its own)."""
+    import numpy as np
+    sb = built.std(0)
+    scale = np.where(sb > 0, real.std(0) / np.where(sb > 0, sb, 1.0), 1.0) if spread else 1.0
+    return real.mean(0) + (built - built.mean(0)) * scale
+
+
 def rescaled(Xb, yb, cb, X, y, c):
     """Built-in features Xb with every cell moved to the real cell's mean and per-feature spread (cells with ≥ 2 of each)."""
     import numpy as np
@@ -121,10 +130,21 @@ def rescaled(Xb, yb, cb, X, y, c):
         for s in np.unique(yb):
             mb, mr = (cb == k) & (yb == s), (c == k) & (y == s)
             if mr.sum() >= 2 and mb.sum() >= 2:
-                sb = Xb[mb].std(0)
-                ratio = np.where(sb > 0, X[mr].std(0) / np.where(sb > 0, sb, 1.0), 1.0)
-                out[mb] = X[mr].mean(0) + (Xb[mb] - Xb[mb].mean(0)) * ratio
+                out[mb] = to_real(Xb[mb], X[mr], spread=True)
     return out
+
+
+def halves(clips, rng) -> list:
+    """Two halves of the clips, at random."""
+    order = rng.permutation(len(clips))
+    return [[clips[i] for i in order[:len(order) // 2]], [clips[i] for i in order[len(order) // 2:]]]
+
+
+def walks_and_others(clips) -> tuple:
+    """The walk takes and the jump, run, punch and kick takes among the clips (transitions in neither)."""
+    from tools.fit_styles import content_group
+    return ([k for k in clips if content_group(k[0]["content"]) == "walk"],
+            [k for k in clips if content_group(k[0]["content"]) not in ("walk", None)])
 
 
 def reverse_bound(real_clips, Xb, yb, cb, C: float, splits: int = REVERSE_SPLITS, seed: int = 0) -> dict:
@@ -141,18 +161,15 @@ def reverse_bound(real_clips, Xb, yb, cb, C: float, splits: int = REVERSE_SPLITS
         return make_pipeline(StandardScaler(), LogisticRegression(C=C, max_iter=5000, random_state=seed)).fit(X, y)
 
     def read(clf, clips):
-        walks = [k for k in clips if content_group(k[0]["content"]) == "walk"]
-        others = [k for k in clips if content_group(k[0]["content"]) not in ("walk", None)]
         return [(R.linear_scores(clf, part).get("takes") or {"accuracy": np.nan})["accuracy"]
-                for part in (clips, walks, others)]
+                for part in (clips, *walks_and_others(clips))]
     names = ("built-in as generated", "built-in, cell means matched", "built-in, cell means and spreads matched",
              "real takes (the ceiling)")
     got = {n: [] for n in names}
     rng = np.random.default_rng(seed)
     for _ in range(splits):
-        order = rng.permutation(len(real_clips))
-        halves = [[real_clips[i] for i in order[:len(order) // 2]], [real_clips[i] for i in order[len(order) // 2:]]]
-        for fit_half, read_half in (halves, halves[::-1]):
+        split = halves(real_clips, rng)
+        for fit_half, read_half in (split, split[::-1]):
             X, y, _, c, _ = R._windowed(fit_half)
             c = np.array([str(content_group(x)) for x in c])
             moved_means = shifted(Xb, yb, cb, X, y, c, columns(GROUPS), 1.0, "cell")
@@ -170,11 +187,9 @@ def moved_inputs(inputs, keys, real_by_cell: dict, spread: bool) -> list:
         if key not in real_by_cell:
             continue
         mine = [i for i, k in enumerate(keys) if k == key]
-        built, real = np.concatenate([inputs[i] for i in mine]), real_by_cell[key]
-        sb = built.std(0)
-        scale = np.where(sb > 0, real.std(0) / np.where(sb > 0, sb, 1.0), 1.0) if spread else 1.0
-        for i in mine:
-            out[i] = (real.mean(0) + (inputs[i] - built.mean(0)) * scale).astype(np.float32)
+        moved = to_real(np.concatenate([inputs[i] for i in mine]), real_by_cell[key], spread).astype(np.float32)
+        for i, part in zip(mine, np.split(moved, np.cumsum([len(inputs[i]) for i in mine])[:-1])):
+            out[i] = part
     return out
 
 
@@ -193,19 +208,17 @@ def reverse_network(real_clips, builtin_clips, seed: int = 0) -> dict:
     keys = [(r["style"], r["content"]) for r, _ in train]
     names = ("built-in as generated", "built-in, cell mean poses matched", "built-in, cell pose means and spreads matched")
     got = {n: [] for n in names}
-    order = np.random.default_rng(seed).permutation(len(real_clips))  # reverse_bound's first halves
-    halves = [[real_clips[i] for i in order[:len(order) // 2]], [real_clips[i] for i in order[len(order) // 2:]]]
+    split = halves(real_clips, np.random.default_rng(seed))  # reverse_bound's first halves
     threads = torch.get_num_threads()
     torch.set_num_threads(1)
     try:
-        for fit_half, read_half in (halves, halves[::-1]):
+        for fit_half, read_half in (split, split[::-1]):
             real_by_cell: dict = {}
             for r, j in fit_half:
                 if content_group(r["content"]) is not None:
                     real_by_cell.setdefault((r["style"], content_group(r["content"])), []).append(E.classifier_input(j))
             real_by_cell = {k: np.concatenate(v) for k, v in real_by_cell.items()}
-            walks = [k for k in read_half if content_group(k[0]["content"]) == "walk"]
-            others = [k for k in read_half if content_group(k[0]["content"]) not in ("walk", None)]
+            walks, others = walks_and_others(read_half)
             val_set = E.WindowDataset([j for _, j in val], [index[r["style"]] for r, _ in val], seed=seed + 1)
             for name, spread in zip(names, (None, False, True)):
                 train_set = E.WindowDataset([j for _, j in train], [index[y] for y, _ in keys], seed=seed,
