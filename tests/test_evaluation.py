@@ -151,6 +151,18 @@ def test_by_style_known_answers():
                                                                  ("j1", "jump", 2), ("x", "", 1)]
     assert [r["cra"] for r in rows] == [50.0, 100.0, 50.0, None]  # no label the classifier knows: no CRA
     assert rows[1]["read_as"] == "walk" and rows[3]["read_as"] == "walk" and rows[3]["sra"] == 100.0
+    # given the outputs' scores, every breakdown and the row read them instead of scoring again
+    calls = []
+
+    class Counting(Stub):
+        def score(self, outputs):
+            calls.append(len(outputs))
+            return super().score(outputs)
+    ev = Counting()
+    scored = ev.score(outputs)
+    for breakdown in (bench.by_style, bench.by_content):
+        assert breakdown(outputs, pairs, ev, scored) == breakdown(outputs, pairs, Stub())
+    assert calls == [5]
 
 
 # ---------------------------------------------------------------- the packaged evaluator on the built-in data

@@ -175,6 +175,12 @@ def test_a_judge_needs_two_styles_and_says_whose_data_lacks_them(tiny):
         R.fit_judge(one, "built-in")
     clf, fitted = R.fit_judge(R.read_clips(real, "--real"), "real")
     assert list(clf.classes_) == ["neutral", "old"] and fitted["train"]["takes"] == 8 and fitted["C"] in R.C_CHOICES
+    # windows cut once give the same judge as the clips; kept to some styles, only their windows remain
+    cut = R.as_windows(R.read_clips(real, "--real"))
+    again, refitted = R.fit_judge(cut, "real")
+    assert refitted == fitted and np.array_equal(again.predict(cut.X), clf.predict(cut.X))
+    old = R.as_windows(cut, {"old"})
+    assert set(old.y) == {"old"} and len(old.X) == len(old.take) == (cut.y == "old").sum() > 0
 
 
 def test_report_structure_save_and_plot(tiny):

@@ -83,9 +83,10 @@ def score_real_pairs(xia_train_bvh, xia_grid_bvh, content_specs, workdir, method
         for method in methods:
             outputs, seconds = transfer_pairs(method, pairs, progress=True)
             for judge, ev in evaluators.items():
-                rows[judge].append(bench_row(method, 0, outputs, pairs, ev, seconds))
-                contents[judge][method] = by_content(outputs, pairs, ev)
-                clips[judge][method] = by_content_clip(outputs, pairs, ev)
+                scored = ev.score(outputs)  # once per judge: the row and both breakdowns read it
+                rows[judge].append(bench_row(method, 0, outputs, pairs, ev, seconds, scored))
+                contents[judge][method] = by_content(outputs, pairs, ev, scored)
+                clips[judge][method] = by_content_clip(outputs, pairs, ev, scored)
     finally:
         torch.set_num_threads(threads)
     return {"rows": rows, "by_content": contents, "by_content_clip": clips, "pairs": pairs, "grid": grid,

@@ -99,11 +99,12 @@ class Evaluator:
         return np.stack([self._real[c["clip_id"]] for c in clips])
 
 
-def evaluate(outputs, pairs, evaluator: Evaluator) -> dict:
-    """All metrics of a list of output motions against their (content, style) pairs."""
+def evaluate(outputs, pairs, evaluator: Evaluator, scored=None) -> dict:
+    """All metrics of a list of output motions against their (content, style) pairs (scored: the outputs'
+    `Evaluator.score`, if already computed)."""
     contents = [c for c, _ in pairs]
     styles = [s for _, s in pairs]
-    c_logits, s_logits, feats = evaluator.score(outputs)
+    c_logits, s_logits, feats = evaluator.score(outputs) if scored is None else scored
     real = evaluator.real_features(styles)
     c_index = {c: i for i, c in enumerate(evaluator.content.classes)}
     s_index = {s: i for i, s in enumerate(evaluator.style.classes)}
@@ -123,29 +124,29 @@ def evaluate(outputs, pairs, evaluator: Evaluator) -> dict:
     }
 
 
-def by_style(outputs, pairs, evaluator: Evaluator) -> list:
+def by_style(outputs, pairs, evaluator: Evaluator, scored=None) -> list:
     """SRA and CRA over the pairs of each style (sorted by name), with the style its outputs are read as most often."""
-    return _breakdown(outputs, pairs, evaluator, "style")
+    return _breakdown(outputs, pairs, evaluator, "style", scored)
 
 
-def by_content(outputs, pairs, evaluator: Evaluator) -> list:
+def by_content(outputs, pairs, evaluator: Evaluator, scored=None) -> list:
     """SRA and CRA over the pairs of each content label the content classifier knows (sorted by name), with the
     content its outputs are read as most often: which actions a method keeps and which it turns into another."""
-    return _breakdown(outputs, pairs, evaluator, "content")
+    return _breakdown(outputs, pairs, evaluator, "content", scored)
 
 
-def by_content_clip(outputs, pairs, evaluator: Evaluator) -> list:
+def by_content_clip(outputs, pairs, evaluator: Evaluator, scored=None) -> list:
     """`by_content` per content clip (in the pairs' order), each row also naming its clip's content label; CRA is
     None for a clip whose label the content classifier does not know."""
-    return _breakdown(outputs, pairs, evaluator, "clip")
+    return _breakdown(outputs, pairs, evaluator, "clip", scored)
 
 
-def _breakdown(outputs, pairs, evaluator: Evaluator, key: str) -> list:
+def _breakdown(outputs, pairs, evaluator: Evaluator, key: str, scored=None) -> list:
     """Per value of the pairs' `key` label ("style": of the style clip, "content": of the content clip, "clip":
-    the content clip itself)."""
+    the content clip itself); scored as in `evaluate`."""
     if len(outputs) != len(pairs) or not pairs:
         raise ValueError(f"outputs: expected one per pair ({len(pairs)} pairs, at least one), got {len(outputs)}")
-    c_logits, s_logits, _ = evaluator.score(outputs)
+    c_logits, s_logits, _ = evaluator.score(outputs) if scored is None else scored
     s_read = np.array([evaluator.style.classes[i] for i in s_logits.argmax(1)])
     c_read = np.array([evaluator.content.classes[i] for i in c_logits.argmax(1)])
     styles = np.array([s["style"] for _, s in pairs])
@@ -185,9 +186,9 @@ def transfer_pairs(method: str, pairs, device: str = "cpu", progress: bool = Fal
     return outputs, seconds
 
 
-def bench_row(method: str, seed: int, outputs, pairs, evaluator: Evaluator, seconds: float) -> dict:
-    """The §8 JSON row of a method's outputs on its pairs."""
-    row = {"method": method, "seed": seed, "pairs": len(pairs), **evaluate(outputs, pairs, evaluator),
+def bench_row(method: str, seed: int, outputs, pairs, evaluator: Evaluator, seconds: float, scored=None) -> dict:
+    """The §8 JSON row of a method's outputs on its pairs (scored as in `evaluate`)."""
+    row = {"method": method, "seed": seed, "pairs": len(pairs), **evaluate(outputs, pairs, evaluator, scored),
            "ms_per_clip": 1000.0 * seconds / max(len(pairs), 1)}
     return {k: row[k] for k in JSON_KEYS}
 

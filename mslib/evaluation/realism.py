@@ -36,6 +36,7 @@ import hashlib
 import json
 import warnings
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -160,8 +161,18 @@ def take_features(takes) -> np.ndarray:
     return np.array(feats).reshape(len(feats), 6 * 66)
 
 
-def _windowed(clips, keep_style=None) -> tuple:
-    """Features (N, 396), styles (N,), take ids (N,), contents (N,) of every classifier window."""
+class Windows(NamedTuple):
+    """Every classifier window of some clips: features (N, 396), styles, take ids, contents (N,) and how many
+    takes were too short to give one."""
+    X: np.ndarray
+    y: np.ndarray
+    take: np.ndarray
+    content: np.ndarray
+    short: int
+
+
+def _windowed(clips, keep_style=None) -> Windows:
+    """`Windows` of every classifier window of the clips (of the styles in keep_style, if given)."""
     X, y, take, content, short = [], [], [], [], 0
     for row, joints in clips:
         if keep_style is not None and row["style"] not in keep_style:
@@ -172,7 +183,17 @@ def _windowed(clips, keep_style=None) -> tuple:
         for _ in feats:
             y.append(row["style"]), take.append(row.get("take") or row["clip_id"]), content.append(row["content"])
     X = np.concatenate(X) if X else np.zeros((0, 6 * 66))
-    return X, np.array(y), np.array(take), np.array(content), short
+    return Windows(X, np.array(y), np.array(take), np.array(content), short)
+
+
+def as_windows(data, keep_style=None, desc: str = "windows", progress: bool = False) -> Windows:
+    """`_windowed` of clips, or `Windows` already cut (kept to keep_style): cut once, read by several judges."""
+    if not isinstance(data, Windows):
+        return _windowed(tqdm(data, desc=desc, disable=not progress), keep_style)
+    if keep_style is None:
+        return data
+    keep = np.isin(data.y, list(keep_style))
+    return Windows(data.X[keep], data.y[keep], data.take[keep], data.content[keep], data.short)
 
 
 def scores(true, pred, classes) -> dict:
@@ -213,8 +234,9 @@ def fit_window_classifier(X, y, groups, seed: int = 0):
 
 
 def fit_judge(clips, what: str, seed: int = 0) -> tuple:
-    """`fit_window_classifier` on every classifier window of the clips: (model, {C, CV scores, "train": counts})."""
-    X, y, groups, _, short = _windowed(clips)
+    """`fit_window_classifier` on every classifier window of the clips (or their `Windows`):
+    (model, {C, CV scores, "train": counts})."""
+    X, y, groups, _, short = as_windows(clips)
     if len(set(y)) < 2:
         raise ValueError(f"{what} train data: need windows of {CLASSIFIER_WINDOW} frames from at least two styles, "
                          f"got {sorted(set(y))}")
@@ -225,8 +247,9 @@ def fit_judge(clips, what: str, seed: int = 0) -> tuple:
 def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, progress: bool = False,
                     builtin_train_clips=None) -> dict:
     """Fit on real train windows; score real test windows and takes, and built-in style test windows (and, given
-    them, the built-in train windows: five times as many takes, none of which any generator setting was chosen on)."""
-    clf, fitted = fit_judge(tqdm(train_clips, desc="real train windows", disable=not progress), "real", seed)
+    them, the built-in train windows: five times as many takes, none of which any generator setting was chosen on).
+    The built-in clips may be given as their `Windows`."""
+    clf, fitted = fit_judge(as_windows(train_clips, desc="real train windows", progress=progress), "real", seed)
     classes = list(clf.classes_)
     import sklearn
     out = {"model": f"StandardScaler + LogisticRegression (scikit-learn {sklearn.__version__}, lbfgs)", **fitted,
@@ -239,8 +262,7 @@ def real_to_builtin(train_clips, test_clips, builtin_test_clips, seed: int = 0, 
     for split, clips in (("test", builtin_test_clips), ("train", builtin_train_clips)):
         if clips is None:
             continue
-        Xb, yb, _, content_b, short_b = _windowed(tqdm(clips, desc=f"built-in {split} windows", disable=not progress),
-                                                   set(classes))
+        Xb, yb, _, content_b, short_b = as_windows(clips, set(classes), f"built-in {split} windows", progress)
         if len(yb):
             pred_b = clf.predict(Xb)
             out[f"builtin_{split}_windows"] = {**scores(yb, pred_b, classes), "takes_too_short": short_b}
@@ -302,7 +324,8 @@ def builtin_to_real(test_clips, train_clips=None, builtin_folder=None, evaluator
 
 def builtin_linear_to_real(builtin_train_clips, test_clips, train_clips=None, seed: int = 0) -> dict:
     """Part 2's recipe the other way round: fitted on built-in style train windows, read on real takes. Beside
-    the packaged evaluator it separates the gap of the data from the gap of the evaluator's own network."""
+    the packaged evaluator it separates the gap of the data from the gap of the evaluator's own network.
+    builtin_train_clips: clips or their `Windows`."""
     clf, fitted = fit_judge(builtin_train_clips, "built-in", seed)
     test = linear_scores(clf, test_clips)
     out = {**fitted, "real_test_windows": test.get("windows"), "real_test_takes": test.get("takes")}
@@ -334,7 +357,8 @@ def realism_report(real, grid=None, builtin=None, seed: int = 0, evaluator=None,
         builtin = load_builtin(progress=progress)["style"]
     built = read_clips(builtin, "builtin", progress=progress)
     built_test = [(r, j) for r, j in built if r["split"] == "test"]
-    built_train = [(r, j) for r, j in built if r["split"] == "train"]
+    built_train = as_windows([(r, j) for r, j in built if r["split"] == "train"], desc="built-in train windows",
+                             progress=progress)  # cut once: read by both linear judges
     report = {
         "real": {**_provenance(real), "takes": len(real_all)},
         "grid": None if grid is None else {**_provenance(grid), "takes": len(test)},
