@@ -126,13 +126,42 @@ def test_fit_cell_closes_a_reachable_gap(monkeypatch):
     truth = jm.clip_to_limits(np.concatenate([rng.normal(0, 5, jm.N_OFFSET), rng.normal(0, 0.2, jm.N_GAIN),
                                               rng.uniform(0, 5, jm.N_GAIN)]))
     directions = rng.normal(size=(7, 20))
-    out = F.fit_cell("old", "punch", base + truth @ A, Identity, directions, iters=3)
+    out = F.fit_cell("old", "punch", base + truth @ A, Identity, directions, iters=3, weights=F.Weights(1, 0, 0))
     assert out["residual_after"] < 0.01 * out["residual_before"]
     assert len(out["theta"]) == jm.N_PARAMS
     walk = F.fit_cell("old", "walk", base + truth @ A, Identity, directions, cue_base + truth @ C,
-                      np.full(len(CUES), 0.1), iters=3)  # a walk matches its cues as well
+                      np.full(len(CUES), 0.1), iters=3, weights=F.Weights(1, 0, 0))  # a walk matches its cues too
     assert walk["residual_after"] < 0.01 * walk["residual_before"]
     assert walk["residual_before"] > out["residual_before"]  # the cue gap counts in the residual
+
+
+def test_fit_cell_weighs_its_blocks_and_starts_warm(monkeypatch):
+    """The residual's parts weigh what Weights says (known answers at the numbers 0), and a warm start from
+    numbers that already fit keeps them."""
+    rng = np.random.default_rng(2)
+    A, base = rng.normal(size=(jm.N_PARAMS, 80)), rng.normal(size=80)
+    monkeypatch.setattr(F, "generated_windows",
+                        lambda style, content, table, with_cues=False: (base + table[(style, content)] @ A
+                                                                         + np.zeros((4, 1)), None))
+
+    class Identity:
+        @staticmethod
+        def transform(X):
+            return X
+    directions, target, within = rng.normal(size=(14, 80)), rng.normal(size=80), rng.uniform(0.5, 2, 80)
+    gap = base - target  # at the numbers 0
+    before = {w: F.fit_cell("old", "kick", target, Identity, directions, iters=0, within=within,
+                            weights=F.Weights(*w))["residual_before"] for w in [(1, 0, 0), (4, 0, 0), (1, 2, 3)]}
+    d = directions @ gap
+    assert before[1, 0, 0] == pytest.approx((d ** 2).sum(), rel=1e-3)
+    assert before[4, 0, 0] == pytest.approx(4 * (d[:7] ** 2).sum() + (d[7:] ** 2).sum(), rel=1e-3)
+    z = gap / within
+    assert before[1, 2, 3] == pytest.approx((d ** 2).sum() + 2 * (z[:66] ** 2).sum() / 66 + 3 * (z ** 2).mean(),
+                                            rel=1e-3)
+    truth = jm.clip_to_limits(rng.normal(0, 0.5, jm.N_PARAMS))
+    warm = F.fit_cell("old", "kick", base + truth @ A, Identity, directions, iters=0, within=within, start=truth)
+    np.testing.assert_allclose(warm["theta"], truth, rtol=1e-3, atol=1e-3)
+    assert warm["residual_after"] < 1e-6 < warm["residual_before"]
 
 
 def test_the_discriminant_directions_are_in_units_of_the_within_style_spread():
@@ -143,3 +172,33 @@ def test_the_discriminant_directions_are_in_units_of_the_within_style_spread():
     assert D.shape == (2, 6)
     np.testing.assert_allclose(F.within_spread(Z @ D.T, y), 1.0, rtol=0.05)  # LDA scalings: unit within-class spread
     assert np.abs(D[:, [1, 3, 4, 5]]).max() < 0.3 * np.abs(D[:, [0, 2]]).max()  # it reads the telling features
+
+
+def test_refitting_some_contents_keeps_the_other_cells_and_says_how_they_were_made(monkeypatch, tmp_path):
+    """`fit(only=...)` refits those contents (warm: from the layer in place) and keeps every other cell, its fit
+    record and the command that made it."""
+    real = tmp_path / "real"
+    real.mkdir()
+    (real / "labels.csv").write_text("clip_id,style\n")
+    y = np.array(["old"] * 3 + ["proud"] * 3)
+    group = np.array(["kick", "kick", "walk"] * 2)  # two kick windows per style (MIN_WINDOWS), one walk
+    monkeypatch.setattr(F, "real_cells", lambda folder: (None, np.eye(6, 396), y, group, {}))
+    monkeypatch.setattr(F, "builtin_directions", lambda scaler, Z, y: np.zeros((7, 396)))
+
+    def fake_fit_cell(style, content, start=None, **kw):  # (runs in a worker process) ends where it started, or at 1
+        return {"theta": list(start) if start is not None else [1.0] * jm.N_PARAMS, "residual_before": 2.0,
+                "residual_after": 1.0}
+    monkeypatch.setattr(F, "fit_cell", fake_fit_cell)
+    layer = tmp_path / "layer.json"
+    old = {"cells": {"old:walk": [0.5] * jm.N_PARAMS, "old:kick": [0.25] * jm.N_PARAMS},
+           "fit": {"old:walk": {"real_windows": 3}, "old:kick": {"real_windows": 3}},
+           "command": "python tools/fit_joint_moments.py --real xia_train", "earlier_commands": []}
+    layer.write_text(json.dumps(old))
+    monkeypatch.setattr(jm, "MOMENTS_FILE", layer)
+    table = F.fit(real, only=["kick"], progress=False, warm=True)
+    assert table["earlier_commands"] == [old["command"]] and set(table["cells"]) == {"old:walk", "old:kick", "proud:kick"}
+    assert table["cells"]["old:walk"] == old["cells"]["old:walk"]  # kept
+    assert table["cells"]["old:kick"] == old["cells"]["old:kick"]  # refitted, warm: from the layer's numbers
+    assert table["cells"]["proud:kick"] == [1.0] * jm.N_PARAMS  # refitted: the layer had no numbers for it
+    assert table["fit"]["old:walk"] == {"real_windows": 3} and table["fit"]["old:kick"]["residual_after"] == 1.0
+    assert table["weights"] == {"real": 1.0, "pose_means": F.POSE_WEIGHT, "all_means": F.ALL_MEANS_WEIGHT}

@@ -181,9 +181,10 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   the real takes have them: an actor's action need not keep the tempo of the same actor's walk.
 #   Last, a per-joint layer (`tools/fit_joint_moments.py`) gives every style × content cell its own
 #   posture offset, amplitude gain and small 0.5–2 Hz motion per joint angle, fitted so that the cell's
-#   windows fall where the real ones do — along the directions in which the real styles differ, and
-#   along those in which the built-in styles differ (where a judge trained on built-in data looks) —
-#   and, for walks, so that the walking cues below match too;
+#   windows fall where the real ones do — along the directions in which the real styles differ, along
+#   those in which the built-in styles differ (where a judge trained on built-in data looks), and in
+#   every feature's mean, the mean pose above all (what a network trained on built-in clips reads
+#   most: the bounds at the end of this section) — and, for walks, so that the walking cues match too;
 # - the **realism report** then checks the result on held-out Xia *test* takes:
 #
 #       python -m mslib data realism --real XIA_TRAIN_DIR --grid XIA_GRID_DIR --out notebooks/data/00_realism.json
