@@ -232,14 +232,16 @@ print(format_cross_scores(realism))
 # cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
 # at where windows fall among the real styles, not at these cues, and every built-in walker is now
 # jerkier than its real counterpart (the jerk panel), the old one taking shorter and slower steps than the
-# real old walker (stride, speed). The other direction is weaker: the evaluator trained on
-# built-in clips recognises the real test takes less often than the real judge reads built-in windows, and
-# reads no real sexy take as sexy. The linear recipe fitted on built-in windows (the last lines) reads more
-# real takes than the evaluator does, yet still fewer than the real judge reads built-in windows: a little of
-# the gap is the evaluator's network, most of it is the data. The built-in styles now sit where
-# the real ones do in the space a linear judge reads, yet a classifier trained on built-in clips alone
-# still learns cues of the generator that real takes do not share. That is why the benchmark of
-# notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained on real takes.
+# real old walker (stride, speed). The other direction has nearly caught up: the evaluator trained on
+# built-in clips alone recognises most real test takes — every old and strutting one — but misses more of
+# the neutral and sexy takes than of any other style. The linear recipe fitted on built-in windows (the last
+# lines) reads a few more real takes than the evaluator does: a little of the gap is the evaluator's
+# network, the rest is the data. It was the cells' mean *poses* that closed most of it: the per-joint layer
+# matches them as well as the judges' directions, and a network trained on built-in clips reads poses
+# first (the bounds below). Yet it still misreads some real takes: a classifier trained on
+# built-in clips alone still learns cues of the generator that real takes do not share. That is why the
+# benchmark of notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained
+# on real takes.
 
 # Could the evaluator instead be taught to ignore the generator's quirks? A search in `tools/`
 # (`evaluator_augment.py`) trained it on windows mirrored left to right, replayed faster or slower, or with

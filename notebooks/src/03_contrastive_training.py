@@ -229,8 +229,8 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # Read neighbouring rows as a plateau, not a ranking: an accuracy on 200 pairs moves by several points
 # from the draw alone. Raising $w$ trades content (CRA) for style (SRA): CRA falls and SRA rises down the
 # table. The last column stays small: at every $w$ only a few transfers take the style clip's *content* with
-# its style. The course keeps C's $w = 1$: the best H in the table lies past it, at an extrapolation beyond
-# the style clip's own code, and a $w$ fitted to one run's sweep need not suit another run.
+# its style. The course keeps C's $w = 1$ rather than whichever row tops the table: rows near the top differ
+# by less than the draw moves them, and a $w$ fitted to one run's sweep need not suit another run.
 #
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
