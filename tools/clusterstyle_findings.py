@@ -102,7 +102,8 @@ def fig5(paths) -> dict:
     return {"prototypes_per_style": K, "chance_hit_rate": round(100.0 / K, 1), "rows": rows, "summary": summary}
 
 
-GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1.0), (1500.0, 2.5), (1500.0, 0.0))
+GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1.0), (1500.0, 2.5), (1500.0, 0.0),
+                 (3000.0, 0.0))
 
 
 def guidance(n_pairs: int = 96) -> dict:

@@ -236,9 +236,9 @@ print(format_cross_scores(realism))
 # built-in clips alone recognises most real test takes — every old and strutting one — but misses more of
 # the neutral and sexy takes than of any other style. The linear recipe fitted on built-in windows (the last
 # lines) reads a few more real takes than the evaluator does: a little of the gap is the evaluator's
-# network, the rest is the data. It was the cells' mean *poses* that closed most of it: the per-joint layer
-# matches them as well as the judges' directions, and a network trained on built-in clips reads poses
-# first (the bounds below). Yet it still misreads some real takes: a classifier trained on
+# network, the rest is the data. The per-joint layer matches the cells' mean *poses* as well as the judges'
+# directions, and a network trained on built-in clips reads poses first (the bounds below). Yet the
+# evaluator still misreads some real takes: a classifier trained on
 # built-in clips alone still learns cues of the generator that real takes do not share. That is why the
 # benchmark of notebook 07 judges real pairs twice: once by the packaged evaluator, once by a judge trained
 # on real takes.

@@ -212,8 +212,8 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
 # between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
-# in every row the output's head sits above the content's and no lower than the clip's, even where the clip's
-# head is lower than the content's.
+# in every row the output's head sits level with the content's or above it, and no lower than the clip's, even
+# where the clip's head is lower than the content's.
 
 # %%
 content_test = ContentClips(paths["content"], "test", normalize=False, joints=True)

@@ -212,8 +212,7 @@ viz.MotionViewer([demo_c["joints"], demo_s["joints"], demo_out], titles=["conten
 # **How much style?** C Fig. 10–11 mix two style codes. With the target's *own* code as one end, the mix is a
 # style strength: $G\big(E_c(M^T) \,|\, E_s(M^T) + w\,(E_s(M^S) - E_s(M^T))\big)$, where $w = 1$ is C's
 # transfer, $w = 0$ gives the target back in its own style and $w > 1$ pushes past the style clip's code.
-# The sweep below scored an earlier course model, on an earlier version of the built-in corpora, at each $w$
-# on 200 *validation* pairs
+# The sweep below scored the course model at each $w$ on 200 *validation* pairs
 # (`tools/contrastive_findings.py strength`). This notebook's one table of findings:
 
 # %%
@@ -228,9 +227,10 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # %% [markdown]
 # Read neighbouring rows as a plateau, not a ranking: an accuracy on 200 pairs moves by several points
 # from the draw alone. Raising $w$ trades content (CRA) for style (SRA): CRA falls and SRA rises down the
-# table. The last column stays small: at every $w$ only a few transfers take the style clip's *content* with
-# its style. The course keeps C's $w = 1$ rather than whichever row tops the table: rows near the top differ
-# by less than the draw moves them, and a $w$ fitted to one run's sweep need not suit another run.
+# table. The last column grows with $w$ too: the further the code is pushed, the more transfers take the style
+# clip's *content* along with its style (§6 asks the same on the benchmark). The course keeps C's $w = 1$
+# rather than whichever row tops the table: rows near the top differ by less than the draw moves them, and a
+# $w$ fitted to one run's sweep need not suit another run.
 #
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
@@ -263,7 +263,7 @@ print("C Fig. 2 (silhouette with the terms > without):", results["with"]["silhou
 
 # %% [markdown]
 # The last line says True: the silhouette is higher with the terms than without, so **C Fig. 2 holds
-# here** — the contrastive terms make the style codes group better. Better is not well: both silhouettes in
+# here** — the contrastive terms make the style codes group a little better. Better is not well: both silhouettes in
 # the titles are below zero (the codes of one style are, on average, no closer to each other than to
 # another style's), and neither picture shows clean clusters by style. In a short joint run the triplet can
 # be met by E_s moving its own codes, and InfoNCE shapes the *content* code, not the style code, so the terms
@@ -285,7 +285,7 @@ print("short joint run with C's terms:", {k: round(results["with"][k], 3) for k 
 # **C Fig. 10–11: style interpolation.** Because the style is one vector, two can be mixed:
 # $G\big(E_c(M^T) \,|\, (1-w)E_s(M^{S_1}) + wE_s(M^{S_2})\big)$ for $w = 0, 0.3, 0.6, 1$ — the course checkpoint,
 # the demo content, and a depressed and a proud held-out walk as the two styles. Watch the head rise as the
-# proud code takes over.
+# proud code takes over, then level off over the last step.
 
 # %%
 from mslib.data.datasets import MotionFolder

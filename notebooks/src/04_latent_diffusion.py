@@ -423,9 +423,10 @@ for claim, result in claims.items():
 # scratch by the diffusion loss alone: with nothing pulling its codes toward style captions, it is free to
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
-# every switch costs something. B's λ sweep also has a turn the table shows: as λ grows, SRA keeps rising
-# while CRA keeps falling, so H, which needs both, first rises and then drops; its peak lies inside the swept
-# range (notebook 08 names where). On validation pairs, H picked the course preset's λ below B's 2.5.
+# every switch costs something. B's λ sweep should turn: with SRA rising and CRA falling as λ grows, H, which
+# needs both, would peak inside the swept range. Here SRA keeps rising, while CRA holds up to λ = 1 and falls
+# after it; H rises and then levels off over the two largest λ, with no drop inside the range (notebook 08
+# checks it). On validation pairs, H picked B's own λ for the course preset.
 
 # %% [markdown]
 # ## 9. On the benchmark

@@ -132,8 +132,8 @@ print(f"no correction (noisy vs clean) L_rec val {(val_pairs[0] - val_pairs[1]).
 # `OMP_NUM_THREADS=1 .venv/bin/python tools/dsdn_ablation.py --out notebooks/data/05_dsdn_ablation.json`
 # (the three modes trained on the same pairs with the same seed and steps) and is read here. Its dual
 # row is the packaged checkpoint's recipe; the last line sets it beside the packaged model measured on
-# today's validation pairs — they agree when both were made from the same built-in corpora, as they are
-# now.
+# today's validation pairs — they nearly agree when both were made from the same built-in corpora, as they
+# are now.
 
 # %%
 ablation = load_findings("05_dsdn_ablation")
@@ -210,7 +210,7 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA barely moves for a light correction
 # and then falls — a light correction makes the content easier to read at almost no cost in style, a full one smooths part
 # of the style away. Jitter falls
-# all the way; foot sliding (FSF) falls up to the course κ and rises again with any stronger correction, so
+# all the way; foot sliding (FSF) falls until a strong correction and rises again at the full one, so
 # smoother is not the same as better planted.
 
 # %%
@@ -240,10 +240,10 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their mean foot slide smaller (the last line above), though a larger
 # share of frames skates past the FSR threshold (the fsr column). At the course κ it
-# raises CRA by more than it lowers SRA, so H still rises: a light correction makes the content easier to
-# read at a small cost in style. Pushed harder, it loses more style than it gains content: in the table of section 8, from the
-# course κ to κ = 1 SRA falls faster than CRA rises, and H drops — though even at full strength H stays
-# above stage 1 alone (κ = 0).
+# raises CRA and SRA does not fall with it, so H rises: a light correction makes the content easier to
+# read at no visible cost in style. Pushed harder, it gives style away: in the table of section 8, from the
+# course κ to κ = 1 SRA falls about as much as CRA rises, and as SRA is the lower of the two, H drops — though
+# even at full strength H stays above stage 1 alone (κ = 0).
 
 # %% [markdown]
 # ## Exercises

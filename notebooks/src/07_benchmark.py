@@ -222,14 +222,15 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others, and not the same ones — adain most of the walks, adain+dsdn most runs,
-# contrastive and clusterstyle nearly every punch, mcm_ldm most jumps and kicks. A real action the built-in corpus shows differently
+# actions well and loses others — adain, contrastive and clusterstyle most punches (clusterstyle nearly
+# every one), adain+dsdn most kicks, mcm_ldm most jumps and runs, though it keeps punches best of all.
+# A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a
 # stylised 100STYLE walk that looks to it like a run) counts as lost for every method, identity included.
-# Compare adain with adain+dsdn there: the stage-2 correction, trained on built-in motion, keeps more of the
-# real content but smooths part of the real style back out (its SRA is below adain's), so by the real
-# judge its H is lower than adain's — the reverse of the built-in table. That gap is the honest state of
+# Compare adain with adain+dsdn there: in the built-in table the stage-2 correction raises H clearly, but by
+# the real judge the two rows are about level (CRA, SRA and H alike): trained on built-in motion, the
+# correction buys almost nothing on real motion. That gap is the honest state of
 # the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
 # %% [markdown]

@@ -77,9 +77,10 @@ for m in ("adain", "adain+dsdn"):
            "python -m mslib bench --method all --pairs 200")
 
 # %% [markdown]
-# Both stages clear the references, on the built-in pairs and on the real ones. On real pairs the
-# correction costs style (compare the two SRAs of the real column): DSDN was trained to undo stage 1's
-# artefacts on built-in motion, and on real motion it also smooths away part of the real style it was given.
+# Both stages clear the references, on the built-in pairs and on the real ones. But on real pairs the
+# correction buys almost nothing (compare the two rows of the real column: CRA, SRA and H about level), where
+# on built-in pairs it raises CRA and SRA both: DSDN was trained to undo stage 1's artefacts on built-in
+# motion, and that gain does not carry over to real motion.
 #
 # **A Table 2** (the ablation of stage 2): the dual-stream network with its gate beats either stream
 # alone — here on the reconstruction loss $L_{rec}$ (A Eq. 11) and the velocity loss $L_{vel}$ (A Eq. 12)
@@ -176,7 +177,8 @@ record(f"B λ sweep: H peaks inside the range (best λ = {best['key'][7:]})", be
 # %% [markdown]
 # All of B's ablations point the way the paper reports: the StyleRemover matters most (without it the
 # output keeps the content's style, its SRA far below the full run's), and a pre-trained style extractor beats one
-# learnt from scratch alongside the denoiser.
+# learnt from scratch alongside the denoiser. The λ sweep does not peak inside its range here: at the largest λ
+# the content falls further, but the style gains enough that H does not drop.
 #
 # ## Paper C — contrastive disentanglement
 #
@@ -239,18 +241,18 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 
 # %% [markdown]
 # D's diversity claim holds — choosing a prototype moves the output in a way a new seed alone does not — and
-# clusterstyle's outputs are more diverse than AdaIN's on the built-in benchmark, though not on the real pairs.
-# Its Table 3 does not point D's way on SRA: after the same short run the classification head's transfers
-# read as their style more often, though within two standard errors of the difference (notebook 06 §9). They
-# differ in content (CRA) too, by an amount that
-# one short run per head cannot separate from the seed spread shown below.
+# clusterstyle's outputs are more diverse than AdaIN's, on the built-in benchmark and on the real pairs.
+# Its Table 3 does not point D's way on SRA: after the same short run the two heads' transfers read as their
+# style about as often, the classification head's a hair more, well within two standard errors
+# (notebook 06 §9). Their content (CRA) is about level too — gaps far smaller than the seed spread shown below.
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
 # Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
 # were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
 # checkpoints were retrained on the current corpora with the recipes they chose. The seed searches of A, B
-# and C ran on the current corpora, and each rule packaged its best seed's run. Read them as a lesson in noise: the
+# and C ran on the corpora before the latest refit; the retraining kept the seed each rule chose.
+# Read them as a lesson in noise: the
 # same recipe, trained again with another seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
 # sampler on val pairs (notebook 06 §8 says why the course keeps the style branch on).
