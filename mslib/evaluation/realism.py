@@ -36,7 +36,6 @@ import hashlib
 import json
 import warnings
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -44,10 +43,11 @@ from tqdm.auto import tqdm
 from ..data.dataset_folder import read_labels, read_meta
 from ..data.retarget import cut_windows
 from ..fileio import atomic_write_bytes, check_writable
-from .cues import CUE_GROUPS, CUES, FPS, UNITS, body_frame, cue_table, facing_yaw, leg_length, rotate_to_facing
+from .cues import CUE_GROUPS, CUES, FPS, UNITS, cue_table
+from .judge_windows import (CLASSIFIER_WINDOW, HOP, SHORT_TAKE, Windows, as_windows, classifier_windows,  # noqa: F401
+                            take_features, window_features, windowed as _windowed, windows)
 
-CUE_WINDOW, CLASSIFIER_WINDOW, HOP = 24, 16, 8  # frames at 20 fps; windows start every HOP frames
-SHORT_TAKE = 8  # frames: a take this long but shorter than CLASSIFIER_WINDOW is one classifier window, whole
+CUE_WINDOW = 24  # frames at 20 fps (a gait cycle); windows start every HOP frames
 EVALUATOR_WINDOW, EVALUATOR_OVERLAP = 32, 8  # the evaluator's windows (A §4.1, as data_prep --windows cuts them)
 # walks: "walk", and the raw Xia ids 01–12 of folders converted before data_prep named every Xia content
 WALKS = {"walk"} | {f"{i:02d}" for i in range(1, 13)}
@@ -81,19 +81,6 @@ def read_clips(folder, arg: str = "--real", split=None, progress: bool = False) 
         raise ValueError(f"{arg} {folder}: no clips with a style label{'' if split is None else f' in split {split!r}'}")
     return [(r, np.load(folder / "joints" / f"{r['clip_id']}.npy").astype(np.float64))
             for r in tqdm(rows, desc=f"reading {folder.name}", unit="clip", disable=not progress)]
-
-
-def windows(joints, length: int) -> list:
-    """Windows of `length` frames starting every HOP frames, each re-centred and re-faced."""
-    return cut_windows(joints, length, length - HOP)
-
-
-def classifier_windows(joints) -> list:
-    """The judge's windows of a take: CLASSIFIER_WINDOW frames every HOP frames, or, for a take of SHORT_TAKE
-    to CLASSIFIER_WINDOW − 1 frames (most real Xia punches and many kicks: one action each), the whole take."""
-    if SHORT_TAKE <= len(joints) < CLASSIFIER_WINDOW:
-        return cut_windows(joints, len(joints), 0)
-    return windows(joints, CLASSIFIER_WINDOW)
 
 
 def is_walk(content: str) -> bool:
@@ -144,58 +131,6 @@ def cue_comparison(real_clips, builtin_clips, progress: bool = False) -> dict:
 
 
 # ---------------------------------------------------------------- 2. real → built-in
-def window_features(window) -> np.ndarray:
-    """(396,) means and spreads over time of body-frame positions, velocities and accelerations."""
-    w = np.asarray(window, np.float64)
-    yaw, L = facing_yaw(w), leg_length(w)
-    pos = body_frame(w, yaw)  # (T, 22, 3) L
-    vel = rotate_to_facing(np.diff(w, axis=0), yaw[:-1]) * FPS / L  # (T−1, 22, 3) L/s
-    acc = rotate_to_facing(np.diff(w, 2, axis=0), yaw[:-2]) * FPS ** 2 / L  # (T−2, 22, 3) L/s²
-    flat = [x.reshape(len(x), -1) for x in (pos, vel, acc)]
-    return np.concatenate([x.mean(0) for x in flat] + [x.std(0) for x in flat])
-
-
-def take_features(takes) -> np.ndarray:
-    """(N, 396) `window_features` of every judge window (`classifier_windows`) of the takes, take by take."""
-    feats = [window_features(w) for joints in takes for w in classifier_windows(joints)]
-    return np.array(feats).reshape(len(feats), 6 * 66)
-
-
-class Windows(NamedTuple):
-    """Every classifier window of some clips: features (N, 396), styles, take ids, contents (N,) and how many
-    takes were too short to give one."""
-    X: np.ndarray
-    y: np.ndarray
-    take: np.ndarray
-    content: np.ndarray
-    short: int
-
-
-def _windowed(clips, keep_style=None) -> Windows:
-    """`Windows` of every classifier window of the clips (of the styles in keep_style, if given)."""
-    X, y, take, content, short = [], [], [], [], 0
-    for row, joints in clips:
-        if keep_style is not None and row["style"] not in keep_style:
-            continue
-        feats = take_features([joints])
-        short += not len(feats)
-        X.append(feats)
-        for _ in feats:
-            y.append(row["style"]), take.append(row.get("take") or row["clip_id"]), content.append(row["content"])
-    X = np.concatenate(X) if X else np.zeros((0, 6 * 66))
-    return Windows(X, np.array(y), np.array(take), np.array(content), short)
-
-
-def as_windows(data, keep_style=None, desc: str = "windows", progress: bool = False) -> Windows:
-    """`_windowed` of clips, or `Windows` already cut (kept to keep_style): cut once, read by several judges."""
-    if not isinstance(data, Windows):
-        return _windowed(tqdm(data, desc=desc, disable=not progress), keep_style)
-    if keep_style is None:
-        return data
-    keep = np.isin(data.y, list(keep_style))
-    return Windows(data.X[keep], data.y[keep], data.take[keep], data.content[keep], data.short)
-
-
 def scores(true, pred, classes) -> dict:
     """Accuracy (%), counts, chance, per-style accuracy and most common reading, confusion counts."""
     true, pred = np.asarray(true), np.asarray(pred)
