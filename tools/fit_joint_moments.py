@@ -306,8 +306,9 @@ def main(argv=None) -> int:
     table["command"] = (f"python tools/fit_joint_moments.py --real {Path(args.real).name} --out {args.out}"
                         + (f" --iters {args.iters}" if args.iters != ITERS else "")
                         + (f" --only {args.only}" if args.only else "") + (" --warm" if args.warm else "")
-                        + "".join(f" --{k.replace('_', '-')}{'-weight' if k == 'real' else ''} {v:g}"
-                                  for k, v in asdict(weights).items() if v != asdict(Weights())[k]))
+                        + "".join(f" {flag} {value:g}" for flag, value, default in (
+                            ("--real-weight", args.real_weight, 1.0), ("--pose-means", args.pose_means, POSE_WEIGHT),
+                            ("--all-means", args.all_means, ALL_MEANS_WEIGHT)) if value != default))
     atomic_write_bytes(out, (json.dumps(table, indent=1) + "\n").encode("utf-8"))
     for key, cell in table["fit"].items():
         print(f"{key:<18} {cell['real_windows']:3d} real windows: residual {cell['residual_before']} → "
