@@ -34,7 +34,7 @@ COURSE = {
     "contrastive": (2, (), 24),
     "adain": (2, (), 5),
     "dsdn": (0, ("adain",), 2),
-    "mcm_ldm": (1, ("vae", "style_extractor"), 12),
+    "mcm_ldm": (0, ("vae", "style_extractor"), 12),
 }
 POLL_SECONDS = 2.0
 TWO_PHASE = {"adain", "contrastive"}  # pre-training then frozen encoders: the stored seed is the second phase's, +1
