@@ -126,6 +126,14 @@ def test_mcm_seed_search_trains_the_seeds_that_did_not_make_the_packaged_model()
         seeds_to_train(1, [0, 1])
 
 
+def test_clusterstyle_seed_search_refuses_a_second_run_of_a_seed_before_scoring(monkeypatch):
+    import tools.clusterstyle_findings as F
+    from mslib.checkpoints import course_path
+    monkeypatch.setattr(F, "val_pairs", lambda n: pytest.fail("scored before the seeds were checked"))
+    with pytest.raises(ValueError, match=r"--checkpoints: .*clusterstyle.pt was trained with seed \d+, as .* was"):
+        F.seeds([course_path("clusterstyle")])
+
+
 def test_current_commit(monkeypatch, tmp_path):
     commit = common.current_commit()
     assert commit == "unknown" or re.fullmatch(r"[0-9a-f]{7,40}", commit)

@@ -1,6 +1,7 @@
 """Paper D's two findings on the built-in data; writes notebooks/data/06_clusterstyle_findings.json.
 
     python tools/clusterstyle_findings.py [--only fig5,table3,bench,guidance] [--sma-steps 400] [--pairs 100]
+    python tools/clusterstyle_findings.py --only seeds --checkpoints A.pt,B.pt
 
 fig5   D Fig. 5's claim: for each style, two reference clips each with a content walk (all from the *val*
        splits, not the benchmark's test pairs); outputs that use the style's global prototypes as the style
@@ -15,7 +16,11 @@ bench  the default bench draw (seed 0, 200 pairs) of `clusterstyle`, `identity` 
        `python -m mslib bench --method clusterstyle,identity,copy_style --json` prints — stored so that
        notebook 06 need not spend minutes re-running 200 SDEdit transfers.
 guidance  the choice of the course inference settings: style guidance weight w (D Eq. 15, for t < 300) and
-       the style CFG strength s_s, scored on 96 pairs from the *val* splits with the packaged model.
+       the style CFG strength s_s, scored on 96 pairs from the *val* splits with the packaged model. When the
+       best w lies at the edge of the grid, the grid is widened past it (GUIDANCE_GRID's last rows).
+seeds  the SMA stage's course recipe trained again with other seeds (`python -m mslib train clusterstyle
+       --preset course --seed N --out FILE`, passed as `--checkpoints`), each scored beside the packaged model
+       on 200 *val* pairs at the course guidance: how the packaged seed is chosen (SEED_RULE).
 Sections not re-run are kept; each section records the command and the commit that made it, the VAE latent
 and the digest of the checkpoint it measured.
 """
@@ -31,7 +36,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from tools.common import DATA_DIR, current_commit, recorded_command, score_outputs, update_json, val_pairs  # noqa: E402
 
 OUT = DATA_DIR / "06_clusterstyle_findings.json"
-SECTIONS = ("fig5", "table3", "bench", "guidance")
+SECTIONS = ("fig5", "table3", "bench", "guidance", "seeds")
+SEED_RULE = "package the seed with the highest H on 200 val pairs at the course guidance"
 
 
 def val_examples(paths, per_style: int = 2) -> list:
@@ -103,7 +109,7 @@ def fig5(paths) -> dict:
 
 
 GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1.0), (1500.0, 2.5), (1500.0, 0.0),
-                 (3000.0, 0.0))
+                 (3000.0, 0.0), (5000.0, 1.0), (5000.0, 0.0), (8000.0, 1.0), (8000.0, 0.0))
 
 
 def guidance(n_pairs: int = 96) -> dict:
@@ -120,6 +126,34 @@ def guidance(n_pairs: int = 96) -> dict:
         rows.append({"weight": w, "cfg_style": ss, **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "fsf", "tsi")}})
         print(rows[-1], flush=True)
     return {"pairs": n_pairs, "split": "val", "rows": rows}
+
+
+def seeds(checkpoints, n_pairs: int = 200) -> dict:
+    """The packaged model and the same recipe at other seeds (`checkpoints`), scored on val pairs at the course
+    guidance; the best by SEED_RULE."""
+    from mslib.checkpoints import course_path, trained_seed
+    from mslib.evaluation.bench import Evaluator
+    from mslib.models.clusterstyle import load_pipeline
+    from mslib.motion.features import decode
+    paths, seen = [course_path("clusterstyle"), *checkpoints], {}
+    for path in paths:  # before any scoring: every run must be another seed's
+        seed = trained_seed(path, "clusterstyle")
+        if seed in seen:
+            raise ValueError(f"--checkpoints: {path} was trained with seed {seed}, as {seen[seed]} was")
+        seen[seed] = path
+    pairs, ev, rows = val_pairs(n_pairs), Evaluator(), []
+    for seed, path in seen.items():
+        pipe = load_pipeline(path=path)
+        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0))
+                for c, s in pairs]
+        r = score_outputs(outs, pairs, ev)
+        rows.append({"seed": seed, "file": Path(path).name, "guide_weight": pipe.cfg.guide_weight,
+                     **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h")}})
+        print(rows[-1], flush=True)
+    return {"pairs": n_pairs, "split": "val", "rows": rows, "rule": SEED_RULE,
+            "trained_with": [f"python -m mslib train clusterstyle --preset course --seed {r['seed']} --out {r['file']}"
+                             for r in rows[1:]],
+            "packaged_seed": rows[0]["seed"], "best_seed": max(rows, key=lambda r: r["h"])["seed"]}
 
 
 def encoder_accuracy(path, paths) -> float:
@@ -167,10 +201,12 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", default=",".join(SECTIONS), help=f"comma-separated sections of {', '.join(SECTIONS)}")
+    ap.add_argument("--only", default=",".join(SECTIONS[:-1]),
+                    help=f"comma-separated sections of {', '.join(SECTIONS)} (default: all but seeds)")
     ap.add_argument("--sma-steps", type=int, default=400)
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--workdir", default="/tmp/clusterstyle_findings")
+    ap.add_argument("--checkpoints", default="", help="seeds: comma-separated clusterstyle checkpoints of other seeds")
     args = ap.parse_args(argv)
     todo = args.only.split(",")
     unknown = sorted(set(todo) - set(SECTIONS))
@@ -191,6 +227,8 @@ def main(argv=None) -> int:
         result["table3"] = table3(paths, workdir, args.sma_steps, args.pairs)
     if "guidance" in todo:
         result["guidance"] = guidance()
+    if "seeds" in todo:
+        result["seeds"] = seeds([c for c in args.checkpoints.split(",") if c])
     if "bench" in todo:
         from mslib.evaluation.bench import run_bench
         result["bench"] = {"rows": [run_bench(m) for m in ("clusterstyle", "identity", "copy_style")]}

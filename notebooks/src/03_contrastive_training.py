@@ -229,8 +229,8 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # from the draw alone. Raising $w$ trades content (CRA) for style (SRA): CRA falls and SRA rises down the
 # table. The last column grows with $w$ too: the further the code is pushed, the more transfers take the style
 # clip's *content* along with its style (§6 asks the same on the benchmark). The course keeps C's $w = 1$
-# rather than whichever row tops the table: rows near the top differ by less than the draw moves them, and a
-# $w$ fitted to one run's sweep need not suit another run.
+# whichever row tops the table (here it does, but that is not why): rows near the top differ by less than the
+# draw moves them, and a $w$ fitted to one run's sweep need not suit another run.
 #
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
@@ -284,8 +284,9 @@ print("short joint run with C's terms:", {k: round(results["with"][k], 3) for k 
 # %% [markdown]
 # **C Fig. 10–11: style interpolation.** Because the style is one vector, two can be mixed:
 # $G\big(E_c(M^T) \,|\, (1-w)E_s(M^{S_1}) + wE_s(M^{S_2})\big)$ for $w = 0, 0.3, 0.6, 1$ — the course checkpoint,
-# the demo content, and a depressed and a proud held-out walk as the two styles. Watch the head rise as the
-# proud code takes over, then level off over the last step.
+# the demo content, and a depressed and a proud held-out walk as the two styles. Watch the head rise a little
+# at every step as the proud code takes over; the style classifier, though, reads none of the mixes as
+# depressed or proud.
 
 # %%
 from mslib.data.datasets import MotionFolder
@@ -368,27 +369,28 @@ print("correct")
 # %% [markdown]
 # **Exercise 2 (1 point) — predict, then run.** Take the demo pair of §4. First *predict*: as the style strength
 # goes from $w = 0$ (the content's own style code) to $w = 1$ (the style clip's), does the transfer's mean
-# head height move **toward** the style clip's mean head height or **away** from it? Write your prediction in
-# `prediction` before you compute anything. Then measure: `head[w]`, the mean of `cue_tracks(...)["head_height"]`
-# of `decode(model.transfer_features(demo_c["features"], demo_s["features"], strength=w))` for w = 0 and 1. The
+# trunk pitch (how far the trunk leans forward, in degrees) move **toward** the style clip's mean trunk pitch or
+# **away** from it? Write your prediction in `prediction` before you compute anything. Then measure:
+# `lean[w]`, the mean of `cue_tracks(...)["trunk_pitch"]` of
+# `decode(model.transfer_features(demo_c["features"], demo_s["features"], strength=w))` for w = 0 and 1. The
 # hidden test grades the prediction against your measurement.
 
 # %% [nbgrader solution id=ex03_predict_strength]
 ### BEGIN SOLUTION
 prediction = "toward"
-head = {w: float(cue_tracks(decode(model.transfer_features(demo_c["features"], demo_s["features"], strength=w)))
-                 ["head_height"].mean()) for w in (0.0, 1.0)}
+lean = {w: float(cue_tracks(decode(model.transfer_features(demo_c["features"], demo_s["features"], strength=w)))
+                 ["trunk_pitch"].mean()) for w in (0.0, 1.0)}
 ### END SOLUTION
 
 # %% [nbgrader tests id=ex03_predict_strength_check points=1]
 assert prediction in ("toward", "away"), "prediction: 'toward' or 'away'"
-assert set(head) == {0.0, 1.0}, "head: one mean head height for w = 0 and one for w = 1"
+assert set(lean) == {0.0, 1.0}, "lean: one mean trunk pitch for w = 0 and one for w = 1"
 ### BEGIN HIDDEN TESTS
 ref = {w: float(cue_tracks(decode(model.transfer_features(demo_c["features"], demo_s["features"], strength=w)))
-                ["head_height"].mean()) for w in (0.0, 1.0)}
-assert all(abs(head[w] - ref[w]) < 1e-6 for w in ref), "measure with the library's cue_tracks"
-target_head = float(cue_tracks(demo_s["joints"])["head_height"].mean())
-truth = "toward" if abs(ref[1.0] - target_head) < abs(ref[0.0] - target_head) else "away"
+                ["trunk_pitch"].mean()) for w in (0.0, 1.0)}
+assert all(abs(lean[w] - ref[w]) < 1e-6 for w in ref), "measure with the library's cue_tracks"
+target_lean = float(cue_tracks(demo_s["joints"])["trunk_pitch"].mean())
+truth = "toward" if abs(ref[1.0] - target_lean) < abs(ref[0.0] - target_lean) else "away"
 assert prediction == truth
 ### END HIDDEN TESTS
 print("checked")

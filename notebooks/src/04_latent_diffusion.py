@@ -424,8 +424,8 @@ for claim, result in claims.items():
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
 # every switch costs something. B's λ sweep should turn: with SRA rising and CRA falling as λ grows, H, which
-# needs both, would peak inside the swept range. Here it does: SRA keeps rising, while CRA holds up to λ = 1
-# and falls after it, so H climbs to its peak inside the range and drops at the largest λ (notebook 08
+# needs both, would peak inside the swept range. Here it does: SRA keeps rising, while CRA holds over the
+# smallest λ values and falls after them, so H climbs to its peak inside the range and drops at the largest λ (notebook 08
 # checks it). On validation pairs, H picked a λ above B's own for the course preset (§6 prints it).
 
 # %% [markdown]

@@ -197,7 +197,7 @@ for c, s in enumerate(STYLES):
 # $$h = \mathrm{CrossAttn}(z, \text{text}) + \lambda\,\mathrm{CrossAttn}(z, s),$$
 #
 # with λ learnable. Only the style branch and λ are trained (`python -m mslib train clusterstyle
-# --preset course --seed 0`), on the style corpus (D Eq. 1) plus a content-prior term on content clips
+# --preset course --seed SEED`, the seed the search of appendix 08 chose), on the style corpus (D Eq. 1) plus a content-prior term on content clips
 # (D Eq. 2–3) that keeps the text-to-motion ability. The style branch's output projection starts at
 # zero, so training starts from the pre-trained model exactly; with the style dropped the adapter is
 # silent, and the SMA model *is* the t2m model:

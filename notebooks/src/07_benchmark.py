@@ -222,8 +222,9 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others — adain, contrastive and clusterstyle most punches (clusterstyle nearly
-# every one), adain+dsdn most kicks, mcm_ldm most jumps and runs, though it keeps punches best of all.
+# actions well and loses others — adain most punches, contrastive most punches and runs, clusterstyle every
+# action but jumps (nearly every punch), adain+dsdn most kicks, mcm_ldm most jumps and runs, though it keeps
+# punches best of all.
 # A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a

@@ -248,12 +248,13 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 #
 # ## The recipe explorations, in one table each
 # The course recipes were chosen on **validation** pairs by the tools below; notebooks 02–06 tell why.
-# Here is the gist of each search, as stored. A's variants and C's recipe candidates train many models and
-# were measured on an earlier version of the built-in corpora (each row names its commit); the packaged
-# checkpoints were retrained on the current corpora with the recipes they chose. The seed searches of A
-# and C ran on the corpora before the latest refit, and the retraining kept the seed each rule chose; B's ran
-# again on the current corpora (at the λ chosen then), its best seed is the packaged one, and λ was chosen
-# once more for it (notebook 04 §8).
+# Here is the gist of each search, as stored. A's variants and C's earlier recipe candidates train many models
+# and were measured on an earlier version of the built-in corpora (each row names its commit; C's course row
+# is the current corpora's); the packaged
+# checkpoints were retrained on the current corpora with the recipes they chose. A's seed search ran on the
+# corpora before the latest refit, and the retraining kept the seed its rule chose; B's, C's and D's ran on the
+# current corpora, each rule's best seed is the packaged one, and B's λ and D's guidance weight were chosen
+# once more for it (notebooks 04 §8 and 06 §8).
 # Read them as a lesson in noise: the
 # same recipe, trained again with another seed, lands higher or lower on the same 200 val pairs by as much as many of the differences between
 # recipes and claims in this appendix. D's guidance grid, last, scores the two guidance weights of D's
@@ -286,9 +287,15 @@ cseeds = rec["seeds"]
 print("C, the course recipe at other seeds (tools/contrastive_findings.py seeds; val H at w = 1):")
 print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in sorted(cseeds["rows"], key=lambda r: r["seed"])
                        if r["strength"] == 1.0)
-      + f"  | best: seed {cseeds['best_seed']}; the packaged model: seed {cseeds['packaged_seed']}")
+      + f"  | best: seed {cseeds['best_seed']}; the packaged model: seed "
+      f"{trained_seed(course_path('contrastive'), 'contrastive') - 1}")  # its second phase stores seed + 1
+ds = cs["seeds"]
+print(f"D, the SMA stage at other seeds (tools/clusterstyle_findings.py --only seeds; val H on {ds['pairs']} pairs at "
+      f"w = {ds['rows'][0]['guide_weight']:g}, the course w when it ran):")
+print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in sorted(ds["rows"], key=lambda r: r["seed"]))
+      + f"  | best: seed {ds['best_seed']}; the packaged model: seed {trained_seed(course_path('clusterstyle'), 'clusterstyle')}")
 print(f"\nC, the course recipe's candidates (tools/contrastive_findings.py val; H on {rec['val_pairs']} val pairs, "
-      "older corpora — each row names its commit):")
+      "the course row on the current corpora, the others on older ones — each row names its commit):")
 for r in sorted(rec["rows"], key=lambda r: -r["h"])[:8]:
     print(f"  {r['variant']:<20} {r['h']:.3f}   ({r['commit']})")
 g = cs["guidance"]

@@ -83,7 +83,7 @@ class ClusterStyleConfig(Config):
 
     PRESETS: ClassVar[dict] = {
         "paper": {},
-        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=3000.0),
+        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=5000.0),
     }
 
 

@@ -11,5 +11,7 @@ from .model import MCMLDM, NAME, STYLE_WINDOW, Block, MCMConfig, StyleRemover, T
 from .train import TensorSet, build_tensors, prepare, run, train_mcm
 from .transfer import Transfer, load_mcm_ldm, mcm_ldm_method
 
-METHODS = {NAME: (mcm_ldm_method, "B: latent diffusion with content/style/trajectory conditions, DDIM and CFG (20 steps and λ = 2 in the course preset)")}
+_COURSE = MCMConfig.preset("course")
+METHODS = {NAME: (mcm_ldm_method, "B: latent diffusion with content/style/trajectory conditions, DDIM and CFG "
+                                  f"({_COURSE.ddim_steps} steps and λ = {_COURSE.cfg_scale:g} in the course preset)")}
 TRAINERS = {NAME: run, _style_extractor.NAME: _style_extractor.run}

@@ -35,9 +35,9 @@ those dims zeroed (mslib.motion.features.TRAJECTORY_DIMS).
 Ablations of B Table 2 are config switches: `use_remover` (content through a linear projection instead),
 `use_traj` (no trajectory condition), `pretrained_style` (a fresh style encoder trained by the diffusion
 loss alone); the strength knobs are `cfg_scale` (λ) and `ddim_steps`. The course samples with 20 DDIM steps, not
-the release's 50: on validation pairs H is the same within 0.01 and sampling 2.5× faster; and it guides with
-λ = 2, not B's 2.5: the best validation H of λ ∈ {1, 1.25, 1.5, 2, 2.5, 3} on the built-in corpora fitted to
-real capture, where stronger guidance copies more of the style clip's action (`tools/mcm_ldm_ablations.py --only choose`).
+the release's 50: on validation pairs H is the same within 0.01 and sampling 2.5× faster; and its λ is not
+B's 2.5 but the one with the best validation H of λ ∈ {1, 1.25, 1.5, 2, 2.5, 3} for the packaged seed on the
+built-in corpora fitted to real capture (`tools/mcm_ldm_ablations.py --only choose`; the preset below holds it).
 
     model = MCMLDM(MCMConfig.preset("course"), latent_tokens, latent_dim, style_dim, style_cfg)
     cond = model.conditions(z_content, style, traj, traj_mask)   # once per clip
