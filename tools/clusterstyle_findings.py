@@ -112,18 +112,25 @@ GUIDANCE_GRID = ((0.0, 2.5), (0.0, 1.0), (500.0, 1.0), (1500.0, 1.0), (3000.0, 1
                  (3000.0, 0.0), (5000.0, 1.0), (5000.0, 0.0), (8000.0, 1.0), (8000.0, 0.0))
 
 
+def scored_transfers(pipe, pairs, ev, keys=("cra", "sra", "h"), **transfer) -> dict:
+    """SDEdit transfers of (content, style) `pairs` (seed 0, the content's caption; `transfer` passed on to
+    `pipe.transfer`) scored by the evaluator `ev`: {key: value} for `keys`, rounded."""
+    from mslib.motion.features import decode
+    outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0, **transfer))
+            for c, s in pairs]
+    r = score_outputs(outs, pairs, ev)
+    return {k: round(float(r[k]), 4) for k in keys}
+
+
 def guidance(n_pairs: int = 96) -> dict:
     """H, CRA, SRA of SDEdit transfers on a val draw for (w, s_s) in GUIDANCE_GRID (t0 600, s_t 2.5)."""
     from mslib.evaluation.bench import Evaluator
     from mslib.models.clusterstyle import load_pipeline
-    from mslib.motion.features import decode
     pairs, ev, pipe = val_pairs(n_pairs), Evaluator(), load_pipeline()
     rows = []
     for w, ss in GUIDANCE_GRID:
-        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0,
-                                     weight=w, cfg_style=ss)) for c, s in pairs]
-        r = score_outputs(outs, pairs, ev)
-        rows.append({"weight": w, "cfg_style": ss, **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h", "fsf", "tsi")}})
+        rows.append({"weight": w, "cfg_style": ss,
+                     **scored_transfers(pipe, pairs, ev, ("cra", "sra", "h", "fsf", "tsi"), weight=w, cfg_style=ss)})
         print(rows[-1], flush=True)
     return {"pairs": n_pairs, "split": "val", "rows": rows}
 
@@ -134,7 +141,6 @@ def seeds(checkpoints, n_pairs: int = 200) -> dict:
     from mslib.checkpoints import course_path, trained_seed
     from mslib.evaluation.bench import Evaluator
     from mslib.models.clusterstyle import load_pipeline
-    from mslib.motion.features import decode
     paths, seen = [course_path("clusterstyle"), *checkpoints], {}
     for path in paths:  # before any scoring: every run must be another seed's
         seed = trained_seed(path, "clusterstyle")
@@ -144,11 +150,8 @@ def seeds(checkpoints, n_pairs: int = 200) -> dict:
     pairs, ev, rows = val_pairs(n_pairs), Evaluator(), []
     for seed, path in seen.items():
         pipe = load_pipeline(path=path)
-        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0))
-                for c, s in pairs]
-        r = score_outputs(outs, pairs, ev)
         rows.append({"seed": seed, "file": Path(path).name, "guide_weight": pipe.cfg.guide_weight,
-                     **{k: round(float(r[k]), 4) for k in ("cra", "sra", "h")}})
+                     **scored_transfers(pipe, pairs, ev)})
         print(rows[-1], flush=True)
     return {"pairs": n_pairs, "split": "val", "rows": rows, "rule": SEED_RULE,
             "trained_with": [f"python -m mslib train clusterstyle --preset course --seed {r['seed']} --out {r['file']}"
@@ -178,7 +181,6 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
     from mslib.models import clusterstyle as C
     from mslib.models.clusterstyle import Pipeline
     from mslib.models.common.vae import load_vae
-    from mslib.motion.features import decode
     pairs = load_pairs(seed=0, n_pairs=n_pairs)
     ev, vae = Evaluator(), load_vae()
     rows = []
@@ -189,11 +191,8 @@ def table3(paths, workdir: Path, sma_steps: int, n_pairs: int) -> dict:
         C.run_sma("course", paths["content"], paths["style"], seed=0, out=sma_pt, steps=sma_steps, progress=False,
                   style_path=style_pt, vae=vae)
         pipe = Pipeline(C.load_clusterstyle(sma_pt), vae)
-        outs = [decode(pipe.transfer(c["features"], s["features"], caption=c.get("caption") or None, seed=0))
-                for c, s in pairs]
-        r = score_outputs(outs, pairs, ev)
         rows.append({"head": head, "encoder_acc": round(encoder_accuracy(style_pt, paths), 2),
-                     **{k: round(float(r[k]), 4) for k in ("sra", "sra_top3", "cra", "h", "fmd")},
+                     **scored_transfers(pipe, pairs, ev, ("sra", "sra_top3", "cra", "h", "fmd")),
                      "seconds": round(time.time() - t0, 1)})
         print(rows[-1], flush=True)
     return {"sma_steps": sma_steps, "pairs": n_pairs, "rows": rows}
