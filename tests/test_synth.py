@@ -229,3 +229,16 @@ def test_batched_encoder_matches_features_encode():
 def test_parents_of_the_generator_are_the_template():
     clip = generate_clip("wave", seed=0, index=0)
     assert clip.skeleton.parents == PARENTS and clip.skeleton.names == JOINT_NAMES
+
+
+def test_every_style_jumps_alike_in_time_and_height_and_the_pelvis_tips_in_the_crouch():
+    """Real jumps of every style last and rise about alike (actions.py): only the posture differs."""
+    from mslib.data import actions
+    cp = {"content": "jump", "height": 0.3, "distance": 0.0}
+    plans = {s: actions.jump(100, 20, np.random.default_rng(3), sample_style(np.random.default_rng(4), s, content="jump"),
+                             cp, 0.9) for s in ("neutral", "old", "angry")}
+    grounded = {s: p.contacts.any(1) for s, p in plans.items()}
+    assert plans["old"].info["height"] == plans["angry"].info["height"] == 0.3
+    assert (grounded["old"] == grounded["angry"]).all() and not grounded["neutral"].all()  # same flights
+    tilt = plans["neutral"].angles.a[:, 0, 0]  # pelvis pitch (+ forward)
+    assert tilt.max() - tilt.min() >= 0.9 * actions.PELVIS_TILT

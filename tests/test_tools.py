@@ -300,12 +300,12 @@ def test_train_all_plans_every_checkpoint_after_what_it_reads():
 
 
 def test_train_all_seeds_are_the_packaged_checkpoints():
-    """The table's seeds made the packaged checkpoints (a two-phase model stores its second phase's, +1)."""
+    """The table's seeds made the packaged checkpoints."""
     from mslib.checkpoints import course_path, trained_seed
     from tools import train_all as T
     for name, (seed, _, _) in T.COURSE.items():
         stored = trained_seed(course_path(name), name)
-        assert stored == seed + (name in T.TWO_PHASE), (name, stored, seed)
+        assert stored == seed, (name, stored, seed)
 
 
 def test_train_all_runs_a_job_only_after_the_ones_it_needs(tmp_path, monkeypatch):

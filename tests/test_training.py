@@ -7,7 +7,7 @@ import pytest
 import torch
 from torch.utils.data import TensorDataset
 
-from mslib.checkpoints import FORMAT_VERSION, load_state, read_checkpoint, save_checkpoint
+from mslib.checkpoints import FORMAT_VERSION, load_state, read_checkpoint, save_checkpoint, trained_seed
 from mslib.training import TrainConfig, fit, lr_factor, pretrain_then_freeze, run_summary
 
 
@@ -129,6 +129,16 @@ def test_checkpoint_errors_name_the_file(tmp_path):
         read_checkpoint(tmp_path / "missing.pt")
     with pytest.raises(TypeError):
         save_checkpoint(tmp_path / "b.pt", m, {"bad": object()}, "linear")
+
+
+def test_trained_seed_is_the_command_seed_for_one_and_two_phase_recipes(tmp_path):
+    """A two-phase recipe (pretrain_steps > 0) stores its second phase's seed, S + 1; trained_seed gives S."""
+    m = Linear()
+    one = save_checkpoint(tmp_path / "one.pt", m, {**m.config, "pretrain_steps": 0}, "linear",
+                          extra={"train_config": {"seed": 5}})
+    two = save_checkpoint(tmp_path / "two.pt", m, {**m.config, "pretrain_steps": 30}, "linear",
+                          extra={"train_config": {"seed": 5}})
+    assert (trained_seed(one, "linear"), trained_seed(two, "linear")) == (5, 4)
 
 
 @pytest.mark.bench

@@ -276,7 +276,7 @@ def main(argv=None) -> int:
             model = C.load(ck)
             if model.cfg != C.ContrastiveConfig.preset("course"):
                 raise SystemExit(f"checkpoint {ck or 'packaged'}: not trained with the course preset")
-            seed = trained_seed(ck or course_path(C.NAME), C.NAME) - 1  # phase 2: seed + 1
+            seed = trained_seed(ck or course_path(C.NAME), C.NAME)
             if seed in models:
                 raise SystemExit(f"checkpoint {ck}: seed {seed} twice")
             models[seed] = model

@@ -37,7 +37,6 @@ COURSE = {
     "mcm_ldm": (0, ("vae", "style_extractor"), 12),
 }
 POLL_SECONDS = 2.0
-TWO_PHASE = {"adain", "contrastive"}  # pre-training then frozen encoders: the stored seed is the second phase's, +1
 
 
 def command(name: str) -> list:

@@ -63,8 +63,11 @@ def read_checkpoint(path, model_name: str | None = None) -> dict:
 
 
 def trained_seed(path, model_name: str | None = None) -> int:
-    """The seed a checkpoint's training run stored (a two-phase recipe stores its second phase's, seed + 1)."""
-    return int(read_checkpoint(path, model_name)["extra"]["train_config"]["seed"])
+    """The seed `python -m mslib train … --seed S` made the checkpoint with. A two-phase recipe (its config has
+    `pretrain_steps` > 0: mslib.training.pretrain_then_freeze) stores its second phase's seed, S + 1."""
+    blob = read_checkpoint(path, model_name)
+    two_phase = isinstance(blob.get("config"), dict) and (blob["config"].get("pretrain_steps") or 0) > 0
+    return int(blob["extra"]["train_config"]["seed"]) - int(two_phase)
 
 
 def load_state(path, model: torch.nn.Module, model_name: str | None = None) -> dict:

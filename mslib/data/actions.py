@@ -4,6 +4,13 @@ Each action is a few keyframed tracks (smoothstep between keys) on top of an idl
 stay planted (contacts True) — except the kicking foot while it kicks and both feet in a jump's
 flight. Timing scales with the style's `action_speed`, ranges with `action_amp`; actions repeat
 with idle gaps until the clip is full.
+
+Jumps are the exception: real capture (the Xia train split) shows every style's jump taking about
+as long (1.0–1.5 s from the crouch to the landing) and the pelvis rising and falling about as far
+(0.4–0.7 leg lengths), so a jump's timing and height do not follow the style's tempo and range —
+the style shows in its posture and in the fitted per-joint layer (joint_moments.py). A real crouch
+also tips the pelvis forward (the trunk then leans less at the spine), and a real flight tucks the
+legs and swings the arms high: JUMP_KEYS and PELVIS_TILT hold those numbers.
 """
 from __future__ import annotations
 
@@ -11,6 +18,14 @@ import numpy as np
 
 from .body import LEFT, RIGHT, Angles, keyframes, shaped, slow_noise
 from .gait import Plan, apply_posture, stance_abduction
+
+
+# the jump's key angles (degrees): the crouch, the flight's tuck and the landing's absorption; arm flexion
+# back in the crouch and up in the flight
+JUMP_KEYS = {"crouch_hip": 60.5, "crouch_knee": 93.5, "crouch_lean": 30.8, "tuck_hip": 49.0, "tuck_knee": 84.0,
+             "absorb_hip": 55.0, "absorb_knee": 82.5, "absorb_lean": 27.5, "arm_back": -52.0, "arm_up": 110.5}
+PELVIS_TILT = 30.0  # degrees of forward pelvis tilt at the deepest crouch (the hips flex that much less)
+SPINE_SHARE = 0.2  # of that tilt the trunk keeps: the spine leans 0.8 × the tilt less
 
 
 def _side(name: str) -> int:
@@ -161,11 +176,12 @@ def wave(T, fps, rng, sp, cp, leg) -> Plan:
 
 
 def jump(T, fps, rng, sp, cp, leg) -> Plan:
-    """Crouch, push off (heels up, arms swing up), fly (ballistic root), land, absorb, recover."""
+    """Crouch (the pelvis tips forward), push off (heels up, arms swing up), fly (ballistic root, legs
+    tucked), land, absorb, recover; the same timing and height for every style (see the module docstring)."""
     ang, t, contacts, pitch = _stand(T, fps, rng, sp, leg)
-    tempo, amp = _tempo(sp), _amp(sp)
-    height = float(np.clip(cp["height"] * amp, 0.06, 0.5))
-    dist = float(cp["distance"]) * amp
+    tempo = 1.0
+    height = float(np.clip(cp["height"], 0.06, 0.5))
+    dist = float(cp["distance"])
     tau = np.sqrt(8 * height / 9.81)
     tracks = {k: [(0.0, 0.0)] for k in ("hip", "knee", "lean", "arm", "ankle", "fwd")}
     foot_p = [(0.0, 0.0)]
@@ -185,25 +201,32 @@ def jump(T, fps, rng, sp, cp, leg) -> Plan:
         if n_jumps > 0 and end > t[-1]:
             break
         ab, rc = la + 0.3 / tempo, end
-        tracks["hip"] += [(tk, 0), (tk + c, 55), (to, -5), (to + 0.5 * tau, 35), (la, 15), (ab, 50), (rc, 0)]
-        tracks["knee"] += [(tk, 0), (tk + c, 85), (to, 3), (to + 0.5 * tau, 60), (la, 18), (ab, 75), (rc, 0)]
-        tracks["lean"] += [(tk, 0), (tk + c, 28), (to, 6), (la, 10), (ab, 25), (rc, 0)]
-        tracks["arm"] += [(tk, 0), (tk + 0.7 * c, -40), (to + 0.3 * tau, 85), (la, 40), (ab, 25), (rc, 0)]
+        k = JUMP_KEYS
+        tracks["hip"] += [(tk, 0), (tk + c, k["crouch_hip"]), (to, -5), (to + 0.5 * tau, k["tuck_hip"]), (la, 15),
+                          (ab, k["absorb_hip"]), (rc, 0)]
+        tracks["knee"] += [(tk, 0), (tk + c, k["crouch_knee"]), (to, 3), (to + 0.5 * tau, k["tuck_knee"]), (la, 18),
+                           (ab, k["absorb_knee"]), (rc, 0)]
+        tracks["lean"] += [(tk, 0), (tk + c, k["crouch_lean"]), (to, 6), (la, 10), (ab, k["absorb_lean"]), (rc, 0)]
+        tracks["arm"] += [(tk, 0), (tk + 0.7 * c, k["arm_back"]), (to + 0.3 * tau, k["arm_up"]), (la, 40), (ab, 25),
+                          (rc, 0)]
         tracks["ankle"] += [(to, 0), (to + 0.2 * tau, 25), (la, 25), (la + 0.05, 0)]
         tracks["fwd"] += [(to - 0.12, 0), (la + 0.08, 1.0)]
         foot_p += [(tk + c, 0.0), (to, 45.0), (to + 1e-3, 25.0), (la, 25.0), (la + 0.08, 0.0)]
         air |= (t >= to) & (t < la)
         n_jumps += 1
         tk = rc + rng.uniform(0.2, 0.8)
-    ang.hip(LEFT, flex=keyframes(t, tracks["hip"]))
-    ang.hip(RIGHT, flex=keyframes(t, tracks["hip"]))
+    lean = keyframes(t, tracks["lean"])
+    tilt = PELVIS_TILT * lean / JUMP_KEYS["crouch_lean"]  # the pelvis tips forward with the crouch
+    ang.pelvis(tilt=tilt)
+    ang.hip(LEFT, flex=keyframes(t, tracks["hip"]) - tilt)  # the thighs keep their angle in the world
+    ang.hip(RIGHT, flex=keyframes(t, tracks["hip"]) - tilt)
     for side in (LEFT, RIGHT):
         ang.knee(side, flex=keyframes(t, tracks["knee"]))
         ang.ankle(side, plantar=keyframes(t, tracks["ankle"]))
         ang.shoulder(side, flex=keyframes(t, tracks["arm"]), abduct=5)
         ang.elbow(side, flex=20)
-    ang.spine(lean=keyframes(t, tracks["lean"]))
-    ang.neck(pitch=-0.6 * keyframes(t, tracks["lean"]))
+    ang.spine(lean=lean - (1 - SPINE_SHARE) * tilt)
+    ang.neck(pitch=-0.6 * lean)
     apply_posture(ang, sp, t, rng)
     contacts[air] = False
     fp = keyframes(t, foot_p)

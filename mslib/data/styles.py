@@ -56,8 +56,8 @@ PARAMS = {
     "head_bob": (0.0, 0.4, 0.0, 10.0, "head nod with every step (degrees)"),
     # tempo
     "cadence": (1.0, 0.04, 0.5, 1.6, "step frequency multiplier"),
-    "action_speed": (1.0, 0.06, 0.4, 1.8, "tempo of punches, kicks, waves and jumps"),
-    "action_amp": (1.0, 0.06, 0.4, 1.6, "range of punches, kicks, waves and jumps"),
+    "action_speed": (1.0, 0.06, 0.4, 1.8, "tempo of punches, kicks and waves (not jumps: actions.py)"),
+    "action_amp": (1.0, 0.06, 0.4, 1.6, "range of punches, kicks and waves (not jumps: actions.py)"),
     # dynamics
     "bounce": (0.0, 0.08, 0.0, 2.5, "springy knee flexion in stance"),
     "tremor": (0.0, 0.05, 0.0, 4.0, "tremor of head, arms and trunk (degrees)"),
@@ -252,7 +252,7 @@ def sample_content(rng: np.random.Generator, content: str) -> dict:
     elif content == "walk_backward":
         c.update(speed=rng.uniform(0.4, 0.8), direction=180.0, curvature=rng.uniform(-0.03, 0.03))
     elif content == "jump":
-        c.update(height=rng.uniform(0.08, 0.3), distance=rng.choice([0.0, rng.uniform(0.3, 0.9)]))
+        c.update(height=rng.uniform(0.144, 0.54), distance=rng.choice([0.0, rng.uniform(0.3, 0.9)]))
     return c
 
 

@@ -25,7 +25,7 @@ import torch
 import matplotlib.pyplot as plt
 
 from mslib import viz
-from mslib.checkpoints import course_path, read_checkpoint
+from mslib.checkpoints import course_path, read_checkpoint, trained_seed
 from mslib.data.corpora import load_builtin
 from mslib.data.styles import STYLES
 from mslib.evaluation.bench import Evaluator, format_table, load_pairs, run_bench
@@ -176,8 +176,7 @@ print("E_s trainable after phase 1:", any(p.requires_grad for p in live.style_en
 model = C.load()
 blob = read_checkpoint(course_path("contrastive"), "contrastive")
 hist = blob["extra"]["history"]
-phase2_seed = blob["extra"]["train_config"]["seed"]  # phase 2 runs with seed + 1 (mslib.training.pretrain_then_freeze)
-print("seed:", phase2_seed - 1, "| autoencoder steps:", model.cfg.pretrain_steps, "| steps with E_s frozen:", hist["step"][-1])
+print("seed:", trained_seed(course_path("contrastive"), "contrastive"), "| autoencoder steps:", model.cfg.pretrain_steps, "| steps with E_s frozen:", hist["step"][-1])
 print(f"phase 2 trained for {hist['seconds'] / 60:.0f} min")
 fig = viz.plot_curves({k: hist["train"][k] for k in ("rec", "nce", "tri", "adv", "d")}, title="course run, phase 2")
 _ = fig

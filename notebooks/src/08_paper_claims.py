@@ -288,7 +288,7 @@ print("C, the course recipe at other seeds (tools/contrastive_findings.py seeds;
 print("  " + "  ".join(f"seed {r['seed']} {r['h']:.3f}" for r in sorted(cseeds["rows"], key=lambda r: r["seed"])
                        if r["strength"] == 1.0)
       + f"  | best: seed {cseeds['best_seed']}; the packaged model: seed "
-      f"{trained_seed(course_path('contrastive'), 'contrastive') - 1}")  # its second phase stores seed + 1
+      f"{trained_seed(course_path('contrastive'), 'contrastive')}")
 ds = cs["seeds"]
 print(f"D, the SMA stage at other seeds (tools/clusterstyle_findings.py --only seeds; val H on {ds['pairs']} pairs at "
       f"w = {ds['rows'][0]['guide_weight']:g}, the course w when it ran):")
