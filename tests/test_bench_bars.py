@@ -41,10 +41,10 @@ def builtin():
     return {m: bench_row(m, 0, o, pairs, ev, 0.0) for m, o in outputs.items()}, outputs
 
 
-H_MISSED = {"adain": "H 0.578 at the val-chosen w = 0.5 (seed 2, chosen on the earlier corpora)",
-            "contrastive": "H 0.634 (CRA 71.5, SRA 57.0; C's w = 1, seed 0 chosen on val)",
-            "mcm_ldm": "H 0.462 (CRA 37.5, SRA 60.0: seed 0, λ 3 and 20 DDIM steps, all chosen on val)",
-            "clusterstyle": "H 0.613 (CRA 52.5: seed 1 and guidance weight w = 5000, both chosen on val)"}
+H_MISSED = {"adain": "H 0.504 (CRA 41.5, SRA 64.0) at the val-chosen w = 0.6 (seed 2, chosen on earlier corpora)",
+            "contrastive": "H 0.580 (CRA 68.0, SRA 50.5; C's w = 1, seed 0 chosen on earlier corpora)",
+            "mcm_ldm": "H 0.571 (CRA 66.5, SRA 50.0: λ 1.25 and 20 DDIM steps chosen on val)",
+            "clusterstyle": "H 0.623 (CRA 59.0, SRA 66.0: guidance weight w = 3000 chosen on val)"}
 
 
 @pytest.mark.parametrize("method", params(H_MISSED))
@@ -83,11 +83,10 @@ def real(tmp_path_factory):
     return {r["method"]: r for r in run["rows"]["real"]}
 
 
-REAL_SRA_MISSED = {"adain": "SRA 27.1 at the val-chosen w = 0.5",
-                   "adain+dsdn": "SRA 27.6 (the correction smooths part of the real style away)",
-                   "contrastive": "SRA 34.3"}
-REAL_CRA_MISSED = {"adain": "CRA 65.6", "adain+dsdn": "CRA 63.5", "contrastive": "CRA 64.1", "mcm_ldm": "CRA 54.7",
-                   "clusterstyle": "CRA 47.6"}
+REAL_SRA_MISSED = {"adain": "SRA 37.2 at the val-chosen w = 0.6",
+                   "adain+dsdn": "SRA 32.0 (the correction smooths part of the real style away)",
+                   "contrastive": "SRA 36.6", "mcm_ldm": "SRA 36.3 at the val-chosen λ 1.25"}
+REAL_CRA_MISSED = {"adain": "CRA 52.7", "adain+dsdn": "CRA 59.0", "contrastive": "CRA 68.1", "clusterstyle": "CRA 29.1"}
 REAL_H_MISSED: dict = {}
 
 

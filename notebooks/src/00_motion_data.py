@@ -179,6 +179,9 @@ print("a caption from each:", content_rows[0]["caption"], "|", style_rows[0]["ca
 #   The three sub-styles of each style are thirds of its real walks, split along the axis on which
 #   they differ most. Each style's runs, jumps, punches and kicks are then fitted on their own, where
 #   the real takes have them: an actor's action need not keep the tempo of the same actor's walk.
+#   Jumps are planned alike for every style: real jumps of every style take about as long and rise
+#   about as high, with the pelvis tipping forward in the crouch, the legs tucked in flight and the arms
+#   swung high, so the style of a built-in jump lies in its posture and in the layer below.
 #   Last, a per-joint layer (`tools/fit_joint_moments.py`) gives every style × content cell its own
 #   posture offset, amplitude gain and small 0.5–2 Hz motion per joint angle, fitted so that the cell's
 #   windows fall where the real ones do — along the directions in which the real styles differ, along

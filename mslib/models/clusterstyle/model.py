@@ -59,8 +59,8 @@ class ClusterStyleConfig(Config):
     """Denoiser, training and inference settings; defaults are paper D's (§3.5, App. A), `course` the CPU recipe.
 
     The course recipe: a 4-layer, 96-wide denoiser on the course VAE's temporal latent, 20 DDIM steps. Style
-    comes from classifier-based guidance (D §3.5: "classifier guidance for style motions") with w = 1500 —
-    on this latent the cosine's gradient is small next to a noise prediction (notebook 06 measures it), so a
+    comes from classifier-based guidance (D §3.5: "classifier guidance for style motions") with a w in the
+    thousands — on this latent the cosine's gradient is small next to a noise prediction (notebook 06 measures it), so a
     w of order 1 does nothing — and the SMA's style branch at its plain conditional strength (s_s = 1); both
     chosen on a validation draw (`tools/clusterstyle_findings.py --only guidance`)."""
 
@@ -83,7 +83,7 @@ class ClusterStyleConfig(Config):
 
     PRESETS: ClassVar[dict] = {
         "paper": {},
-        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=5000.0),
+        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=3000.0),
     }
 
 

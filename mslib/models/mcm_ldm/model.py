@@ -91,7 +91,7 @@ class MCMConfig(Config):
     PRESETS: ClassVar[dict] = {
         "paper": {},
         "course": dict(width=96, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, patch=0, steps=6000,
-                       batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=3.0),
+                       batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=1.25),
     }
     # the InstanceNorm axis, a narrow content layer, noise on the content latent, one trajectory condition per token
     RETIRED: ClassVar[dict] = {"remover_norm": "channel", "content_bottleneck": 0, "content_noise": 0.0,
