@@ -229,7 +229,7 @@ print(format_cross_scores(realism))
 # own style: the walks and runs about as often as it reads real test windows right, the jumps, punches
 # and kicks less often (the *by content* line). The built-in test split holds only a take or two of each
 # style, sub-style and content, so which takes it holds moves its figure by several points; the line for
-# the built-in *train* windows reads five times as many takes (none of them chose anything in the
+# the built-in *train* windows reads several times as many takes (none of them chose anything in the
 # generator) and is the steadier figure. Those cells were fitted to a handful of real windows
 # each, and the per-joint layer can only match where a style's windows fall on average, not how the
 # cues move together within a punch. That match has a price the panels show: the per-joint layer aimed
@@ -237,7 +237,7 @@ print(format_cross_scores(realism))
 # jerkier than its real counterpart (the jerk panel), the old one taking shorter and slower steps than the
 # real old walker (stride, speed). The other direction has nearly caught up: the evaluator trained on
 # built-in clips alone recognises most real test takes — every old and strutting one — but misses more of
-# the neutral and sexy takes than of any other style. The linear recipe fitted on built-in windows (the last
+# the neutral takes than of any other style, and more of the angry and proud ones than of the rest. The linear recipe fitted on built-in windows (the last
 # lines) reads a few more real takes than the evaluator does: a little of the gap is the evaluator's
 # network, the rest is the data. The per-joint layer matches the cells' mean *poses* as well as the judges'
 # directions, and a network trained on built-in clips reads poses first (the bounds below). Yet the
@@ -280,11 +280,13 @@ for judge, rows in (("linear judge", reverse["rows"]), ("evaluator's network", r
                                                            for row in rows))
 
 # %% [markdown]
-# Moving the cells' means helps most where the built-in actions are furthest from the real ones (the jumps,
-# runs, punches and kicks), and spreads help again; even so, a linear judge trained on such a corpus stays
-# below one trained on real takes. The evaluator's network gains more: it reads poses, and a built-in corpus
-# whose styles held each action in the real mean pose, and scattered about it as widely, would train it to
-# recognise real takes nearly as often as a linear judge trained on real takes does. What numbers per cell
+# Moving the cells' means alone does not help the linear judge — it reads a few fewer real takes than when
+# trained on the corpus as generated — but matching the spreads too lifts it above the corpus as generated; even
+# so, a linear judge trained on such a corpus stays below one trained on real takes. The evaluator's network
+# gains more: it reads poses, and moving the mean poses already helps it where the built-in actions are furthest
+# from the real ones (the jumps, runs, punches and kicks). A built-in corpus whose styles held each action in the
+# real mean pose, and scattered about it as widely, would train it to recognise more real takes, though still
+# fewer than a linear judge trained on real takes does. What numbers per cell
 # cannot carry — how a style moves within a take, the timing and shape of a punch or a jump — is the rest.
 
 # %% [markdown]

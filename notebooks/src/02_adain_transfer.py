@@ -175,7 +175,7 @@ _ = fig
 # %% [markdown]
 # Once the decoder must also match the style's statistics, $\mathcal{L}_{style}$ falls, on the training
 # batches and on validation alike (the last line above). $\mathcal{L}_{content}$ does not fall with it: the
-# line before shows it giving a little back, on the training batches and on validation alike. The two
+# line before shows it giving a little back on the training batches, while on validation it barely moves. The two
 # terms pull against each other, which is why A weighs them with $\lambda$s.
 
 # %% [markdown]
@@ -212,7 +212,7 @@ print(f"L_style    train {np.mean(hist['train']['style'][-50:]):.4f}  val {hist[
 # of head height, of swing. The numbers below the strip give two posture cues (the mean over the clip) of the
 # content, of each output and of its style clip. Read them row by row: in every row the output's trunk pitch lies
 # between the content's and the clip's, so the lean moved toward the style; the head height does not follow the clip:
-# in every row the output's head sits level with the content's or above it, and no lower than the clip's, even
+# in every row the output's head sits about level with the content's or above it, and no lower than the clip's, even
 # where the clip's head is lower than the content's.
 
 # %%

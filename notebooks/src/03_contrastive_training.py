@@ -226,7 +226,7 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # %% [markdown]
 # Read neighbouring rows as a plateau, not a ranking: an accuracy on 200 pairs moves by several points
 # from the draw alone. Raising $w$ trades content (CRA) for style (SRA): CRA falls and SRA rises down the
-# table. The last column grows with $w$ too: the further the code is pushed, the more transfers take the style
+# table. The last column broadly grows with $w$ too: the further the code is pushed, the more transfers take the style
 # clip's *content* along with its style (§6 asks the same on the benchmark). The course keeps C's $w = 1$
 # whichever row tops the table (here it does, but that is not why): rows near the top differ by less than the
 # draw moves them, and a $w$ fitted to one run's sweep need not suit another run.
@@ -261,12 +261,12 @@ print(f"{results['steps']} steps per short run, {len(labels)} held-out style cli
 print("C Fig. 2 (silhouette with the terms > without):", results["with"]["silhouette"] > results["without"]["silhouette"])
 
 # %% [markdown]
-# The last line says True: the silhouette is higher with the terms than without, so **C Fig. 2 holds
-# here** — the contrastive terms make the style codes group a little better. Better is not well: both silhouettes in
-# the titles are below zero (the codes of one style are, on average, no closer to each other than to
+# The last line says False: the silhouette is no higher with the terms than without, so **C Fig. 2 does not
+# hold here** — in these short runs the contrastive terms do not make the style codes group better. Neither run
+# groups them well: both silhouettes in the titles are below zero (the codes of one style are, on average, no closer to each other than to
 # another style's), and neither picture shows clean clusters by style. In a short joint run the triplet can
 # be met by E_s moving its own codes, and InfoNCE shapes the *content* code, not the style code, so the terms
-# have little grip on the style codes. The other two claims measured on such short runs do not hold here: the
+# have little grip on the style codes. The other two claims measured on such short runs do not hold here either: the
 # best β of the sweep is not C's (C Table 1), and the codes of a style left out of training do not group (C Fig. 3);
 # appendix 08 gives their numbers. What the course model's E_s learned through the course's departures —
 # the autoencoder phase and the two windows of one recording — groups its codes far better than the short

@@ -424,9 +424,9 @@ for claim, result in claims.items():
 # carry whatever helps reconstruction, content included, so its SRA and CRA can move either way in a short
 # run. Its H is below the full run's (the H column), so by H, the score the appendix (notebook 08) checks,
 # every switch costs something. B's λ sweep should turn: with SRA rising and CRA falling as λ grows, H, which
-# needs both, would peak inside the swept range. Here it does: SRA keeps rising, while CRA holds over the
-# smallest λ values and falls after them, so H climbs to its peak inside the range and drops at the largest λ (notebook 08
-# checks it). On validation pairs, H picked a λ above B's own for the course preset (§6 prints it).
+# needs both, would peak inside the swept range. Here it does: SRA keeps rising, while CRA falls all the way,
+# at first by less than SRA gains and then by as much or more, so H climbs to its peak inside the range and drops
+# towards the largest λ (notebook 08 checks it). On validation pairs, H picked a λ below B's own for the course preset (§6 prints it).
 
 # %% [markdown]
 # ## 9. On the benchmark

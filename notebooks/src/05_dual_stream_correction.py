@@ -207,7 +207,7 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
 # **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ until a strong correction, then levels off, while SRA barely moves for a light correction
+# table says which). Read the columns: CRA rises with κ all the way, more slowly once the correction is strong, while SRA barely moves for a light correction
 # and then falls — a light correction makes the content easier to read at almost no cost in style, a full one smooths part
 # of the style away. Jitter falls
 # all the way; foot sliding (FSF) falls until a strong correction and rises again at the full one, so
@@ -240,9 +240,9 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # %% [markdown]
 # Stage 2 makes the transfers smoother and their mean foot slide smaller (the last line above), though a larger
 # share of frames skates past the FSR threshold (the fsr column). At the course κ it
-# raises CRA and SRA does not fall with it, so H rises: a light correction makes the content easier to
-# read at no visible cost in style. Pushed harder, it gives style away: in the table of section 8, from the
-# course κ to κ = 1 SRA falls about as much as CRA rises, and as SRA is the lower of the two, H drops — though
+# raises CRA far more than SRA falls, so H rises: a light correction makes the content easier to
+# read at little cost in style. Pushed harder, it gives style away: in the table of section 8, from the
+# course κ to κ = 1 SRA falls further than CRA rises, so H drops — though
 # even at full strength H stays above stage 1 alone (κ = 0).
 
 # %% [markdown]

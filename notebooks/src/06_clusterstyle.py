@@ -404,10 +404,10 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
       f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
-# **D Table 3's direction does not show here**: in these short runs the two heads give the adapter about as
-# much style, the classification head a hair more, well within two standard errors. Their content (CRA) is
-# about level too, and one short run per head could not rank such gaps anyway: retraining the same recipe with
-# another seed moves a score by more (appendix 08 shows the seed spreads). What the prototypes do buy is §7's
+# **D Table 3's direction does not show here**: in these short runs the two heads give the adapter as much
+# style as each other (the same SRA), so the clustering adds no style. The prototype head keeps a little more content
+# (CRA), and so a slightly higher H, but one short run per head could not rank such gaps: retraining the same recipe with
+# another seed moves a score by about as much (appendix 08 shows the seed spreads). What the prototypes do buy is §7's
 # steering: the outputs land nearest the prototype used far more
 # often than chance, and on top of seed variation they add diversity in most transfer examples (the
 # "on top of" counts of §7).

@@ -216,22 +216,22 @@ else:
 
 # %% [markdown]
 # **Reading the two tables.** The packaged evaluator learned its classes from built-in motion only: on
-# real contents its content classifier is mostly wrong (read identity's CRA), so its CRA and H say little
+# real contents its content classifier often misreads them (read identity's CRA), so its CRA and H say little
 # here. The real judge recognises the grid's takes themselves almost perfectly, and by it every method
 # keeps more content than copy_style, takes more style than identity and has a higher H than both
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others — adain most punches, contrastive most punches and runs, clusterstyle every
-# action but jumps (nearly every punch), adain+dsdn most kicks, mcm_ldm most jumps and runs, though it keeps
-# punches best of all.
+# actions well and loses others — adain most punches, runs and walks, contrastive most punches, clusterstyle every
+# action but jumps (nearly every kick and punch), adain+dsdn most runs and walks, mcm_ldm about half its jumps, though
+# it keeps punches best of all.
 # A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a
 # stylised 100STYLE walk that looks to it like a run) counts as lost for every method, identity included.
 # Compare adain with adain+dsdn there: in the built-in table the stage-2 correction raises H clearly, but by
-# the real judge the two rows are about level (CRA, SRA and H alike): trained on built-in motion, the
-# correction buys almost nothing on real motion. That gap is the honest state of
+# the real judge its H is about level, even a little lower — the correction trades some style for some content:
+# trained on built-in motion, the correction buys nothing on real motion. That gap is the honest state of
 # the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
 # %% [markdown]
