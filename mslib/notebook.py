@@ -74,6 +74,20 @@ def demo_style(by_style_rows) -> str:
     return max(sorted(rows, key=lambda r: r["style"]), key=lambda r: r["sra"])["style"]
 
 
+def neutral_walk(content_folder=None) -> str:
+    """The clip id of the first neutral walk of the built-in content corpus (or of `content_folder`): a content for an
+    explorer whose own style is none of the styles it is sent to (the content corpus's clips carry random styles)."""
+    import csv
+    if content_folder is None:
+        from .data.corpora import load_builtin
+        content_folder = load_builtin(progress=False)["content"]
+    with open(Path(content_folder) / "labels.csv", encoding="utf-8") as f:
+        for row in csv.DictReader(f):
+            if row["style"] == "neutral" and row["content"] == "walk":
+                return row["clip_id"]
+    raise ValueError(f"{content_folder}: no neutral walk in labels.csv")
+
+
 def demo_pairs(pairs, read_style, style: str | None = None, n: int = 1) -> list:
     """The first `n` pairs of a draw that can show a style (one per style, or all of `style`): the style clip is
     not neutral and the evaluator reads it as its own style (`read_style(joints)` names what it reads), and the

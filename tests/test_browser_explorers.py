@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from mslib.notebook import demo_style, load_findings
+from mslib.notebook import demo_style, load_findings, neutral_walk
 from tests.test_browser_viewer import pixels
 from tests.test_browser_widgets import CHROMEDRIVER, CHROMIUM, notebook_in_lab, nudge_slider
 
@@ -31,20 +31,9 @@ pytestmark = pytest.mark.skipif(not (CHROMIUM and CHROMEDRIVER), reason="Debian'
 
 # notebook 02's demo style: the one the packaged stage 1 moves most reliably on val pairs (mslib.notebook.demo_style)
 DEMO = demo_style(load_findings("02_adain_variants")["strength"]["by_style"])
-
-
-def _neutral_walk() -> str:
-    """The first content clip that is a neutral walk: its identity output is not read as the demo style."""
-    import csv
-
-    from mslib.data.corpora import load_builtin
-    with open(load_builtin(progress=False)["content"] / "labels.csv", encoding="utf-8") as f:
-        return next(r["clip_id"] for r in csv.DictReader(f) if r["style"] == "neutral" and r["content"] == "walk")
-
-
 CELL = f"""\
 from mslib.explorers import explore_transfer
-explore_transfer("{_neutral_walk()}", "{DEMO}", "identity")"""
+explore_transfer("{neutral_walk()}", "{DEMO}", "identity")"""
 BOX = ".jp-OutputArea .mslib-explorer-transfer"
 
 

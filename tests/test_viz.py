@@ -285,6 +285,16 @@ def test_readable_command_keeps_only_file_names_of_scratch_paths():
     assert readable_command(cmd) == "python tools/contrastive_findings.py val joint=var_joint.pt b.pt --out notebooks/data/x.json"
 
 
+def test_neutral_walk_is_the_first_neutral_walk_of_the_labels(tmp_path):
+    from mslib.notebook import neutral_walk
+    (tmp_path / "labels.csv").write_text("clip_id,content,style\nc0,walk,angry\nc1,run,neutral\nc2,walk,neutral\n"
+                                         "c3,walk,neutral\n", encoding="utf-8")
+    assert neutral_walk(tmp_path) == "c2"
+    (tmp_path / "labels.csv").write_text("clip_id,content,style\nc0,walk,angry\n", encoding="utf-8")
+    with pytest.raises(ValueError, match="no neutral walk"):
+        neutral_walk(tmp_path)
+
+
 def test_demo_pairs_follow_the_rule():
     from mslib.notebook import demo_pairs
     def pair(content, style, clip_content):
