@@ -340,11 +340,13 @@ slider_figure(show_scale, values=lams, description="λ", start=course_lam)
 # %%
 # NBVAL_IGNORE_OUTPUT
 from mslib.explorers import explore_guidance, guidance_view
-explore_guidance("c00000", "angry", course_lam)
+from mslib.notebook import neutral_walk
+WALK = neutral_walk()  # a content walk whose own style is neutral
+explore_guidance(WALK, "angry", course_lam)
 
 # %%
 for lam in (0.0, course_lam):
-    print(guidance_view("c00000", "angry", lam).summary())
+    print(guidance_view(WALK, "angry", lam).summary())
 
 # %% [markdown]
 # ## 7. Trajectory: learned vs copied
