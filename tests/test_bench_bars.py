@@ -41,10 +41,11 @@ def builtin():
     return {m: bench_row(m, 0, o, pairs, ev, 0.0) for m, o in outputs.items()}, outputs
 
 
-H_MISSED = {"adain": "H 0.504 (CRA 41.5, SRA 64.0) at the val-chosen w = 0.6 (seed 2, chosen on earlier corpora)",
-            "contrastive": "H 0.580 (CRA 68.0, SRA 50.5; C's w = 1, seed 0 chosen on earlier corpora)",
-            "mcm_ldm": "H 0.571 (CRA 66.5, SRA 50.0: λ 1.25 and 20 DDIM steps chosen on val)",
-            "clusterstyle": "H 0.623 (CRA 59.0, SRA 66.0: guidance weight w = 3000 chosen on val)"}
+H_MISSED = {"adain": "H 0.515 (CRA 41.5, SRA 68.0) at the val-chosen w = 0.6, seed 0",
+            "adain+dsdn": "H 0.647 (CRA 66.5, SRA 63.0) at the val-chosen κ = 0.5 (built-in val alone: κ 0.75)",
+            "contrastive": "H 0.615 (CRA 67.5, SRA 56.5; C's w = 1, seed 1)",
+            "mcm_ldm": "H 0.554 (CRA 47.5, SRA 66.5: λ 2 chosen on built-in and real val pairs)",
+            "clusterstyle": "H 0.633 (CRA 69.0, SRA 58.5: guidance weight w = 1500 chosen on built-in and real val)"}
 
 
 @pytest.mark.parametrize("method", params(H_MISSED))
@@ -83,10 +84,12 @@ def real(tmp_path_factory):
     return {r["method"]: r for r in run["rows"]["real"]}
 
 
-REAL_SRA_MISSED = {"adain": "SRA 37.2 at the val-chosen w = 0.6",
-                   "adain+dsdn": "SRA 32.0 (the correction smooths part of the real style away)",
-                   "contrastive": "SRA 36.6", "mcm_ldm": "SRA 36.3 at the val-chosen λ 1.25"}
-REAL_CRA_MISSED = {"adain": "CRA 52.7", "adain+dsdn": "CRA 59.0", "contrastive": "CRA 68.1", "clusterstyle": "CRA 29.1"}
+REAL_SRA_MISSED = {"adain": "SRA 37.9 at the val-chosen w = 0.6",
+                   "adain+dsdn": "SRA 35.4 (the correction smooths part of the real style away)",
+                   "contrastive": "SRA 35.4 at C's w = 1 (real val pairs favour w ≥ 1.4)",
+                   "clusterstyle": "SRA 39.8 at the val-chosen w = 1500"}
+REAL_CRA_MISSED = {"adain": "CRA 55.9", "adain+dsdn": "CRA 60.8", "contrastive": "CRA 51.9", "clusterstyle": "CRA 41.0",
+                   "mcm_ldm": "CRA 64.1 at the val-chosen λ 2"}
 REAL_H_MISSED: dict = {}
 
 

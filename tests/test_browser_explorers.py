@@ -178,7 +178,7 @@ def test_notebook_03s_interpolation_explorer_follows_its_weight_slider(tmp_path)
     0.3 to 1 as angry with P ≈ 1.00, so the bars of 0.5 and 0.6 are alike.)"""
     pytest.importorskip("selenium", reason="selenium is not installed (it is in requirements.txt)")
     pytest.importorskip("anywidget", reason="anywidget is in the notebooks extra")
-    cell = notebook_cell(NOTEBOOKS / "03_contrastive_training.ipynb", 'explore_interpolation("c00000"')
+    cell = notebook_cell(NOTEBOOKS / "03_contrastive_training.ipynb", "explore_interpolation(WALK")
     with notebook_in_lab([cell], tmp_path) as driver:
         before, after = operate_explorer(driver, "interpolation", "w = 0.5",
                                          lambda d, box: nudge_slider(d, f"{box} .mslib-explorer-weight", "HOME"),
@@ -191,17 +191,21 @@ def test_notebook_03s_interpolation_explorer_follows_its_weight_slider(tmp_path)
 
 def test_notebook_04s_guidance_explorer_follows_lambda_in_jupyterlab(tmp_path):
     """The workbook's own notebook 04, run top to bottom in JupyterLab: its guidance explorer's λ moves one stop,
-    from the course preset's 1.25 to 1.5, and the viewer follows (its pixels change, checked in `operate_explorer`).
-    The bars are not compared: the evaluator may read the outputs of both λ alike to the digit."""
+    from the course preset's λ to the slider's next stop, and the viewer follows (its pixels change, checked in
+    `operate_explorer`). The bars are not compared: the evaluator may read the outputs of both λ alike to the digit."""
     pytest.importorskip("selenium", reason="selenium is not installed (it is in requirements.txt)")
     pytest.importorskip("anywidget", reason="anywidget is in the notebooks extra")
+    from mslib.explorers import SCALES
+    from mslib.models.mcm_ldm import MCMConfig
+    lam = MCMConfig.preset("course").cfg_scale
+    nxt = min(v for v in SCALES if v > lam)
     with notebook_in_lab(NOTEBOOKS / "04_latent_diffusion.ipynb", tmp_path, timeout=600) as driver:
-        before, after = operate_explorer(driver, "guidance", "λ = 1.25",
+        before, after = operate_explorer(driver, "guidance", f"λ = {lam:g}",
                                          lambda d, box: nudge_slider(d, f"{box} .mslib-explorer-scale"),
-                                         "λ = 1.5", _artifacts(tmp_path), "04_guidance", timeout=600)
+                                         f"λ = {nxt:g}", _artifacts(tmp_path), "04_guidance", timeout=600)
         readout = driver.find_element(By.CSS_SELECTOR, ".mslib-explorer-scale .widget-readout").text
-    assert readout == "1.5"
-    assert "angry" in after["status"] and "λ = 1.5" in after["status"] and "λ = 1.5" not in before["status"]
+    assert readout == f"{nxt:g}"
+    assert "angry" in after["status"] and f"λ = {nxt:g}" in after["status"] and f"λ = {nxt:g}" not in before["status"]
     for view in (before, after):                                # the bars show a distribution over the 8 styles
         assert abs(sum(view["bars"].values()) - 1) < 0.05, view["bars"]
 

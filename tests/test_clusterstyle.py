@@ -48,7 +48,7 @@ def test_config_presets_and_stored_configs():
     assert ClusterStyleConfig() == ClusterStyleConfig.preset("paper")  # the defaults are D's
     assert PrototypeConfig() == PrototypeConfig.preset("paper")
     course, pcourse = ClusterStyleConfig.preset("course"), PrototypeConfig.preset("course")
-    assert (course.dim, course.ddim_steps, course.cfg_style, course.guide_weight) == (96, 20, 1.0, 3000.0)
+    assert (course.dim, course.ddim_steps, course.cfg_style, course.guide_weight) == (96, 20, 1.0, 1500.0)
     assert (pcourse.dim, pcourse.k_global, pcourse.k_local, pcourse.window) == (64, 3, 6, 10)
     assert ClusterStyleConfig().ddim_steps == 50 and PrototypeConfig().k_local == 30
     assert ClusterStyleConfig.preset("course", ddim_steps=4).ddim_steps == 4

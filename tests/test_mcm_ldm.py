@@ -38,7 +38,7 @@ def test_config_presets_and_stored_configs():
     assert (paper.width, paper.blocks, paper.mlp_ratio, paper.traj_layers, paper.lr) == (256, 9, 4, 2, 1e-4)
     assert (paper.p_drop_style, paper.cfg_scale, paper.ddim_steps) == (0.25, 2.5, 50)  # B §3.3, Eq. 5
     assert course == M.MCMConfig(width=96, heads=4, blocks=4, mlp_ratio=2, traj_layers=1, traj_down=8, patch=0,
-                                 steps=6000, batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=1.25)  # both chosen on val
+                                 steps=6000, batch_size=64, lr=1e-3, ddim_steps=20, cfg_scale=2.0)  # both chosen on val
     assert M.MCMConfig.preset("course", use_traj=False).use_traj is False  # a B Table 2 switch on top
     with pytest.raises(ValueError, match="widht"):
         M.MCMConfig.preset("course", widht=8)

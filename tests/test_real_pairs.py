@@ -61,6 +61,21 @@ def test_a_draw_takes_styles_in_turn_without_repeats_and_is_reproducible(grid):
     assert len(RP.real_pairs(grid, n_pairs=10 ** 6)) == len(everything)
 
 
+def test_a_split_keeps_only_its_takes(tmp_path):
+    """`split` pairs the takes of one split among themselves: the held-out takes of a folder stay held out."""
+    path = tmp_path / "two_splits"
+    w = DatasetWriter(path, name="two_splits", source="test")
+    for k, (s, split) in enumerate([("neutral", "train"), ("angry", "train"), ("neutral", "test"), ("old", "test")]):
+        p = generate_clip("walk", s, seed=3, index=k, duration=1.5).positions
+        w.add(f"{s}_{split}", p, encode(p), split, style=s, content="walk", source_file=f"{s}_{split}.bvh")
+    w.close()
+    pairs = RP.real_pairs(path, split="test")
+    assert [(c["clip_id"], s["clip_id"]) for c, s in pairs] == [("neutral_test", "old_test")]
+    assert len(RP.real_pairs(path)) == 2 * 4 - 2
+    with pytest.raises(ValueError, match=r"no clip of the val split has a style label"):
+        RP.real_pairs(path, split="val")
+
+
 def test_bad_inputs_name_the_argument(grid, tmp_path):
     with pytest.raises(ValueError, match=r"--real-style .*nope: no such folder"):
         RP.real_pairs(tmp_path / "nope")

@@ -167,6 +167,18 @@ def test_adain_recipe_rule_adopts_only_a_clear_winner_and_keeps_a_better_package
     assert apply_recipe_rule(rows, 0.6) == {}  # no course row at that strength
 
 
+def test_real_val_rule_takes_the_best_mean_of_both_val_sets_and_the_smaller_value_on_a_tie():
+    from tools.real_val import choose
+    real = [{"value": v, "h": h} for v, h in ((0.5, 0.30), (0.6, 0.40), (0.7, 0.44), (0.9, 0.99))]
+    got = choose(real, {0.5: 0.60, 0.6: 0.55, 0.7: 0.47})  # means 0.45, 0.475, 0.455; 0.9 has no built-in row
+    assert got["chosen"] == 0.6 and [r["value"] for r in got["rows"]] == [0.5, 0.6, 0.7]
+    assert got["rows"][1]["builtin_h"] == 0.55 and got["rows"][1]["mean_h"] == 0.475
+    tie = choose([{"value": 2.0, "h": 0.5}, {"value": 1.0, "h": 0.4}], {1.0: 0.6, 2.0: 0.5})
+    assert tie["chosen"] == 1.0
+    with pytest.raises(ValueError, match="no knob value"):
+        choose(real, {3.0: 0.5})
+
+
 # ---------------------------------------------------------------- tools/realism_gap.py
 def test_evaluator_augment_adopts_only_a_gain_larger_than_the_seed_spread():
     from tools.evaluator_augment import SEEDS, summarise

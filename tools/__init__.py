@@ -10,6 +10,7 @@
     contrastive_findings   C's recipe variants, seeds and strengths on val pairs → 03_contrastive_recipes.json
     clusterstyle_findings  D Fig. 5 (pose sets) and Table 3 (ablations) → 06_clusterstyle_findings.json
     real_bench             every method on real pairs (Xia grid styles, real contents), judged twice → 07_real_bench.json
+    real_val               each course knob on held-out Xia train takes (real val pairs), chosen with the built-in val H → 07_real_val.json
     fit_styles             the generator's body and style means fitted to the Xia train split → mslib/data/fitted_styles.json
     fit_joint_moments      the generator's per-joint layer (offset, gain, variation per style × content) → mslib/data/fitted_joint_moments.json
     evaluator_augment      training augmentations of the style evaluator, scored on real train takes → 00_evaluator_augment.json

@@ -66,15 +66,16 @@ def ablation(steps=None, seed: int = 0, as_json: bool = False, out=None) -> list
     return rows
 
 
-def strength_sweep(out=None, kappas=(0.0, 0.25, 0.5, 0.75, 1.0), n_pairs: int = 200) -> list:
-    """H, CRA, SRA, FSF and jitter of stages 1 + 2 on val pairs at several correction strengths κ."""
+def strength_sweep(out=None, kappas=(0.0, 0.25, 0.5, 0.75, 1.0), n_pairs: int = 200, pairs=None, ev=None) -> list:
+    """H, CRA, SRA, FSF and jitter of stages 1 + 2 at several correction strengths κ, on `n_pairs` val pairs
+    judged by the packaged evaluator (or on `pairs` judged by `ev`)."""
     import numpy as np
     from mslib.checkpoints import checkpoint_digest
     from mslib.evaluation.bench import Evaluator, positions
     from mslib.evaluation.metrics import jitter
     from mslib.models.adain import load_adain, load_dsdn
     stage1, stage2 = load_adain(), load_dsdn()
-    pairs, ev = val_pairs(n_pairs), Evaluator()
+    pairs, ev = pairs or val_pairs(n_pairs), ev or Evaluator()
     raw = [stage1.transfer_features(c["features"], s["features"]) for c, s in pairs]
     rows = []
     for k in kappas:

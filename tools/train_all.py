@@ -21,21 +21,23 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from mslib.checkpoints import COURSE_SEEDS  # noqa: E402
 
 # name → (the course seed, the packaged checkpoints its training reads, minutes on one core, roughly)
-COURSE = {
-    "evaluator_style": (0, (), 1),
-    "evaluator_content": (0, (), 1),
-    "vae": (0, (), 11),
-    "style_extractor": (0, (), 1),
-    "clusterstyle_style": (0, (), 1),
-    "clusterstyle_t2m": (0, ("vae",), 9),
-    "clusterstyle": (1, ("clusterstyle_t2m", "clusterstyle_style", "vae"), 10),
-    "contrastive": (0, (), 24),
-    "adain": (2, (), 5),
-    "dsdn": (0, ("adain",), 2),
-    "mcm_ldm": (0, ("vae", "style_extractor"), 12),
-}
+COURSE = {name: (COURSE_SEEDS[name], reads, minutes) for name, reads, minutes in (
+    ("evaluator_style", (), 1),
+    ("evaluator_content", (), 1),
+    ("vae", (), 11),
+    ("style_extractor", (), 1),
+    ("clusterstyle_style", (), 1),
+    ("clusterstyle_t2m", ("vae",), 9),
+    ("clusterstyle", ("clusterstyle_t2m", "clusterstyle_style", "vae"), 10),
+    ("contrastive", (), 24),
+    ("adain", (), 5),
+    ("dsdn", ("adain",), 2),
+    ("mcm_ldm", ("vae", "style_extractor"), 12),
+)}
 POLL_SECONDS = 2.0
 
 

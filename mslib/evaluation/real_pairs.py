@@ -30,8 +30,9 @@ def parse_content_spec(spec: str) -> tuple[Path, str]:
     return Path(path), label.strip()
 
 
-def folder_takes(folder, arg: str = "--real-style") -> list:
-    """Every clip of a real dataset folder with a style label, as the dicts the methods take."""
+def folder_takes(folder, arg: str = "--real-style", split: str | None = None) -> list:
+    """Every clip of a real dataset folder with a style label (of one `split`, or all), as the dicts the methods
+    take."""
     from ..data.dataset_folder import read_labels, read_meta
     from ..fileio import load_npy
     from .transfer_io import _item
@@ -41,11 +42,12 @@ def folder_takes(folder, arg: str = "--real-style") -> list:
                          "`python -m data_prep.bvh XIA_BVH_DIR OUT_DIR --dialect auto --labels xia`)")
     try:
         read_meta(folder)
-        rows = [r for r in read_labels(folder) if r.get("style")]
+        rows = [r for r in read_labels(folder) if r.get("style") and split in (None, r["split"])]
     except ValueError as e:
         raise ValueError(f"{arg} {folder}: {e}") from None
     if not rows:
-        raise ValueError(f"{arg} {folder}: no clip has a style label (convert it with --labels xia)")
+        raise ValueError(f"{arg} {folder}: no clip{'' if split is None else f' of the {split} split'} has a style "
+                         "label (convert it with --labels xia)")
     items = []
     for r in sorted(rows, key=lambda r: r["clip_id"]):
         features = load_npy(folder / "features" / f"{r['clip_id']}.npy", arg)
@@ -78,10 +80,10 @@ def real_contents(style_takes: list, specs=(), max_frames: int = MAX_FRAMES) -> 
 
 
 def real_pairs(style_folder, content_specs=(), n_pairs: int | None = None, seed: int = 0,
-               max_frames: int = MAX_FRAMES) -> list:
-    """(content, style) pairs: every content with every style take but itself; `n_pairs` draws that many
-    at random (styles in turn, the same seed the same draw)."""
-    styles = folder_takes(style_folder)
+               max_frames: int = MAX_FRAMES, split: str | None = None) -> list:
+    """(content, style) pairs: every content with every style take but itself (the takes of one `split` of the
+    folder, or all); `n_pairs` draws that many at random (styles in turn, the same seed the same draw)."""
+    styles = folder_takes(style_folder, split=split)
     contents = real_contents(styles, content_specs, max_frames)
     pairs = [(c, s) for c in contents for s in styles
              if not (c["source"] == s["source"] and c["clip_id"] == s["clip_id"])]

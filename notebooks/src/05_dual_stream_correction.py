@@ -206,8 +206,10 @@ viz.MotionViewer([demo_c["joints"], demo_before, demo_after], titles=["content",
 # smooths (a tremor, a bounce). So the course model applies the correction at a strength $\kappa$:
 # $P + \kappa\,(\mathrm{DSDN}(P) - P)$, where $\kappa = 1$ is A's full correction and $\kappa = 0$ is
 # stage 1 alone. `tools/dsdn_ablation.py --strength` scored the packaged stages on 200 pairs from the
-# **val** splits, and the course preset takes the $\kappa$ with the highest H there (the line under the
-# table says which). Read the columns: CRA rises with κ all the way, more slowly once the correction is strong, while SRA barely moves for a light correction
+# **val** splits (the table below). The same κ were scored on real val pairs too — held-out Xia takes, judged by a
+# judge of real styles (`tools/real_val.py`, appendix 08) — and the course preset takes the $\kappa$ with the best
+# mean of the two H (the line under the table says which), so a κ that wins on built-in motion alone by a hair
+# need not be the course's. Read the columns: CRA rises with κ all the way, more slowly once the correction is strong, while SRA barely moves for a light correction
 # and then falls — a light correction makes the content easier to read at almost no cost in style, a full one smooths part
 # of the style away. Jitter falls
 # all the way; foot sliding (FSF) falls until a strong correction and rises again at the full one, so
@@ -242,7 +244,8 @@ print(f"adain+dsdn − adain: FSF {r['adain+dsdn']['fsf'] - r['adain']['fsf']:+.
 # share of frames skates past the FSR threshold (the fsr column). At the course κ it
 # raises CRA far more than SRA falls, so H rises: a light correction makes the content easier to
 # read at little cost in style. Pushed harder, it gives style away: in the table of section 8, from the
-# course κ to κ = 1 SRA falls further than CRA rises, so H drops — though
+# course κ, H is about level for one more step and then drops at full strength, where SRA falls further than CRA
+# rises — though
 # even at full strength H stays above stage 1 alone (κ = 0).
 
 # %% [markdown]

@@ -364,10 +364,12 @@ fig = plot_transfer(demo_c["joints"], demo_s["joints"], course_out,
 # ### Where the style comes from: the guidance weight
 # The guidance weight $w$ is not in our copy of D, and its scale depends on the latent. Measure it: the
 # gradient of the cosine with respect to the noisy latent, against the size of a noise prediction, for the
-# walk of §7 noised to $t = 200$ and the demo style clip. The grid of $(w, s_s)$ that set the preset's $w$ on
-# validation pairs (`tools/clusterstyle_findings.py --only guidance`) is tabled in appendix 08; the last line
-# below reads from it what the SMA's style branch ($s_s$) costs or buys at the preset's $w$ — the course keeps the
-# branch on because the adapter is D's method.
+# walk of §7 noised to $t = 200$ and the demo style clip. The grid of $(w, s_s)$ scored on built-in validation
+# pairs (`tools/clusterstyle_findings.py --only guidance`) is tabled in appendix 08, beside the same $w$ scored on
+# real val pairs; the preset's $w$ is the one with the best mean of the two H — a weaker guidance than the built-in
+# grid alone would pick, because on real takes strong guidance erases the content. The last line below reads from
+# the grid what the SMA's style branch ($s_s$) costs or buys at the preset's $w$ — the course keeps the branch on
+# because the adapter is D's method.
 
 # %%
 z0 = pipe.vae.encode(pipe.normalize(c_raw)[None])
@@ -404,10 +406,10 @@ print(f"SRA(clustering) − SRA(head) = {diff:+.1f} points, one standard error {
       f"{', within noise' if abs(diff) < 2 * se else ''}")
 
 # %% [markdown]
-# **D Table 3's direction does not show here**: in these short runs the two heads give the adapter as much
-# style as each other (the same SRA), so the clustering adds no style. The prototype head keeps a little more content
-# (CRA), and so a slightly higher H, but one short run per head could not rank such gaps: retraining the same recipe with
-# another seed moves a score by about as much (appendix 08 shows the seed spreads). What the prototypes do buy is §7's
+# **D Table 3's direction does not show here**: in these short runs the classification head gives the adapter a
+# little more style than the prototypes (a higher SRA, within noise by the line above), so the clustering adds no
+# style. The classification head also keeps more content (CRA) and so scores a higher H; with one short run per head,
+# hold these gaps against the seed spreads of appendix 08. What the prototypes do buy is §7's
 # steering: the outputs land nearest the prototype used far more
 # often than chance, and on top of seed variation they add diversity in most transfer examples (the
 # "on top of" counts of §7).

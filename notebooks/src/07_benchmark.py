@@ -144,11 +144,13 @@ viz.MotionViewer(motions[:2] + motions[2::2], titles=titles[:2] + titles[2::2])
 # %%
 # NBVAL_IGNORE_OUTPUT
 from mslib.explorers import explore_transfer, transfer_view
-explore_transfer("c00000", "old", "mcm_ldm")
+from mslib.notebook import neutral_walk
+WALK = neutral_walk()  # a content walk whose own style is neutral
+explore_transfer(WALK, "old", "mcm_ldm")
 
 # %%
 for m in METHODS[2:]:
-    print(transfer_view("c00000", "old", m).summary())
+    print(transfer_view(WALK, "old", m).summary())
 
 # %% [markdown]
 # ## 4. What each paper claimed, and what this benchmark shows
@@ -222,9 +224,9 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others — adain most punches, runs and walks, contrastive most punches, clusterstyle every
-# action but jumps (nearly every kick and punch), adain+dsdn most runs and walks, mcm_ldm about half its jumps, though
-# it keeps punches best of all.
+# actions well and loses others — adain most punches, runs and walks; contrastive most walks and punches; clusterstyle
+# most of every action but jumps, runs and punches worst; adain+dsdn most runs and about half its walks and kicks;
+# mcm_ldm most of its jumps, though it keeps punches best of all the methods.
 # A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a

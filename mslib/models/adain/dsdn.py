@@ -13,7 +13,8 @@ output's own frame-to-frame change (A Eq. 12).
 Training pairs (A §4.3.1): a content motion and its transfer to a neutral style clip by the stage-1 model;
 at inference it corrects transfers to any style. `mode` = "dual" | "dynamic" | "static" gives the
 single-stream ablations of A Table 2; `correction_strength` κ applies P + κ·(DSDN(P) − P) (κ = 1: A's full
-correction; the course preset's κ, the best H on validation pairs, keeps some of the stage-1 style).
+correction; the course preset's κ, the best mean of the H on built-in and on real val pairs (`tools/real_val.py`),
+keeps some of the stage-1 style).
 """
 from __future__ import annotations
 

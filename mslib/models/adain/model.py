@@ -30,7 +30,9 @@ Where the statistics come from (`AdainConfig.shared_encoder`):
 Also a workbook addition: `style_recon` runs A Eq. 4 on the style clips too, so the decoder learns their poses.
 The course preset weighs the content path twice (λ_content = 2 in A Eq. 5, A gives no values): on the corpora
 fitted to real capture the decoder otherwise gives up more content than it gains style (the recipe rows of
-`tools/adain_variants.py`, chosen on validation pairs).
+`tools/adain_variants.py`, chosen on validation pairs). Its style strength w is the one with the best mean of
+two validation H: on built-in val pairs (`tools/adain_variants.py --only strength`) and on real val pairs,
+held-out Xia train takes judged by a judge of real styles (`tools/real_val.py`).
 """
 from __future__ import annotations
 

@@ -62,7 +62,8 @@ class ClusterStyleConfig(Config):
     comes from classifier-based guidance (D §3.5: "classifier guidance for style motions") with a w in the
     thousands — on this latent the cosine's gradient is small next to a noise prediction (notebook 06 measures it), so a
     w of order 1 does nothing — and the SMA's style branch at its plain conditional strength (s_s = 1); both
-    chosen on a validation draw (`tools/clusterstyle_findings.py --only guidance`)."""
+    chosen on a validation draw (`tools/clusterstyle_findings.py --only guidance`), w by the best mean of that H and
+    the H on real val pairs (`tools/real_val.py`)."""
 
     dim: int = 256
     layers: int = 9
@@ -83,7 +84,7 @@ class ClusterStyleConfig(Config):
 
     PRESETS: ClassVar[dict] = {
         "paper": {},
-        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=3000.0),
+        "course": dict(dim=96, layers=4, ff_mult=2, ddim_steps=20, cfg_style=1.0, guide_weight=1500.0),
     }
 
 
