@@ -111,6 +111,28 @@ def test_style_strength_mixes_the_style_codes():
     np.testing.assert_allclose(m.transfer_features(content, other), m.transfer_features(content, style), atol=1e-5)
 
 
+def test_a_long_content_is_transferred_on_overlapping_windows():
+    from mslib.models.common.windows import window_starts
+    torch.manual_seed(0)
+    m = C.ContrastiveModel(tiny()).eval()
+    torch.nn.init.normal_(m.generator.head[-1].weight, std=0.1)  # the course G starts as zero: let G show
+    rng = np.random.default_rng(0)
+    content, style = rng.normal(size=(130, 263)), rng.normal(size=(31, 263))
+    w = m.cfg.transfer_window
+    out = m.transfer_features(content, style)
+    assert not np.allclose(out, m.transfer_features(content, style, window=0))  # 130 rows' statistics are not 48's
+    starts = window_starts(len(content), w)
+    np.testing.assert_allclose(out[:starts[1]], m.transfer_features(content[:w], style)[:starts[1]],
+                               atol=1e-5)  # before the second window starts: the first window's transfer alone
+    alone = len(content) - (starts[-2] + w)  # after the last but one window ends: the last window's alone
+    np.testing.assert_allclose(out[-alone:], m.transfer_features(content[-w:], style)[-alone:], atol=1e-5)
+    short = content[:40]  # no longer than a window: transferred whole
+    np.testing.assert_allclose(m.transfer_features(short, style), m.transfer_features(short, style, window=0))
+    assert np.array_equal(out[:, :3], content[:, :3])  # the root trajectory stays the content's
+    with pytest.raises(ValueError, match="transfer_window"):
+        tiny(transfer_window=4)
+
+
 def test_discriminator_has_its_own_optimiser():
     torch.manual_seed(0)
     m = C.ContrastiveModel(tiny())
@@ -377,6 +399,7 @@ def test_config_presets_and_stored_configs(tmp_path):
     assert (paper.hidden, paper.style_dim, paper.batch_size, paper.lr, paper.steps) == (144, 144, 16, 1e-4, 200_000)
     assert (paper.alpha, paper.beta, paper.gamma, paper.margin) == (1.0, 0.3, 0.3, 1.0)  # C Eq. 4–5
     assert not paper.content_skip and paper.pretrain_steps == 0 and paper.style_views == 0.0  # no course departure
+    assert paper.transfer_window == 0  # C transfers the whole clip at once
     course = C.ContrastiveConfig.preset("course")
     assert course.content_skip and course.pretrain_steps == 2500 and course.style_views == 0.3 and course.hidden == 64
     assert C.ContrastiveConfig.preset("course", hidden=8).hidden == 8
@@ -390,6 +413,8 @@ def test_config_presets_and_stored_configs(tmp_path):
     stored = read_checkpoint(course_path(C.NAME), C.NAME)["config"]
     assert not set(C.ContrastiveConfig.RETIRED) & set(stored)
     assert C.ContrastiveConfig.from_dict(stored) == course
+    older = {k: v for k, v in course.to_dict().items() if k != "transfer_window"}  # stored before the option came
+    assert C.ContrastiveConfig.from_dict(older).transfer_window == 0  # … transfers as it did: the whole clip
     # a retired research option loads when it holds the value the library always uses, else is refused, naming it
     cfg = tiny()
     for option, other in (("pairs", "across"), ("skip_adain", True), ("skip_gain", True), ("disc_real", "both"),

@@ -5,6 +5,7 @@ import os
 import re
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -134,6 +135,45 @@ def test_clusterstyle_seed_search_refuses_a_second_run_of_a_seed_before_scoring(
         F.seeds([course_path("clusterstyle")])
 
 
+def test_clusterstyle_seed_search_scores_every_seed_at_the_packaged_guidance(monkeypatch):
+    import mslib.checkpoints as CK
+    import mslib.evaluation.bench as B
+    import mslib.models.clusterstyle as MC
+    import tools.clusterstyle_findings as F
+    own = {"packaged": (0, 1500.0), "a.pt": (1, 3000.0), "b.pt": (2, 5000.0)}  # seed, the guidance its file stores
+    key = lambda path: "packaged" if path is None or str(path) == str(CK.course_path("clusterstyle")) else str(path)  # noqa: E731
+    monkeypatch.setattr(CK, "trained_seed", lambda path, name=None: own[key(path)][0])
+    monkeypatch.setattr(MC, "load_pipeline", lambda path=None: types.SimpleNamespace(
+        cfg=types.SimpleNamespace(guide_weight=own[key(path)][1], cfg_style=1.0)))
+    monkeypatch.setattr(B, "Evaluator", lambda: None)
+    monkeypatch.setattr(F, "val_pairs", lambda n: [])
+    seen = []
+    monkeypatch.setattr(F, "scored_transfers", lambda pipe, pairs, ev, **kw: seen.append(kw) or {"h": 0.5})
+    got = F.seeds(["a.pt", "b.pt"])
+    assert seen == [{"weight": 1500.0, "cfg_style": 1.0}] * 3
+    assert [r["guide_weight"] for r in got["rows"]] == [1500.0] * 3 and got["packaged_seed"] == 0
+
+
+def test_mcm_seed_search_scores_every_seed_at_the_packaged_scale_and_steps(monkeypatch, tmp_path):
+    import mslib.checkpoints as CK
+    import mslib.data.corpora as corpora
+    import tools.mcm_ldm_ablations as T
+    own = {None: (2.0, 20), "seed1.pt": (1.25, 50)}  # the λ and steps each file stores
+    model = lambda path: types.SimpleNamespace(model=types.SimpleNamespace(  # noqa: E731
+        cfg=types.SimpleNamespace(cfg_scale=own[path][0], ddim_steps=own[path][1])))
+    P = types.SimpleNamespace(load_mcm_ldm=lambda path=None: model(None if path is None else Path(path).name),
+                              prepare=lambda *a, **k: None, run=lambda *a, **k: {"seconds": 1.0})
+    monkeypatch.setattr(CK, "trained_seed", lambda path, name=None: 0)
+    monkeypatch.setattr(CK, "checkpoint_digest", lambda name: "digest")
+    monkeypatch.setattr(corpora, "source_fingerprint", lambda: "corpus")
+    monkeypatch.setattr(T, "val_pairs", lambda n: [])
+    monkeypatch.setattr(T, "OUT", tmp_path / "none.json")
+    seen = []
+    monkeypatch.setattr(T, "scored", lambda tr, pairs, ev, **knob: seen.append(knob) or {"h": 0.5})
+    got = T.seed_rows(P, {"content": None, "style": None}, [1], tmp_path, None, "cmd", "abc")
+    assert seen == [{"scale": 2.0, "steps": 20}] * 2 and [r["seed"] for r in got["rows"]] == [0, 1]
+
+
 def test_current_commit(monkeypatch, tmp_path):
     commit = common.current_commit()
     assert commit == "unknown" or re.fullmatch(r"[0-9a-f]{7,40}", commit)
@@ -165,6 +205,15 @@ def test_adain_recipe_rule_adopts_only_a_clear_winner_and_keeps_a_better_package
     got = apply_recipe_rule(rows, 0.55, packaged_h=0.75)
     assert got["adopted"] == "content1" and got["best_seed"] == 0 and got["keep_packaged"] is True
     assert apply_recipe_rule(rows, 0.6) == {}  # no course row at that strength
+
+
+def test_real_val_seed_rule_takes_the_best_mean_and_keeps_the_packaged_seed_on_a_tie():
+    from tools.real_val import choose_seed
+    rows = [{"seed": 1, "mean_h": 0.50}, {"seed": 0, "mean_h": 0.52}, {"seed": 2, "mean_h": 0.51}]
+    assert choose_seed(rows) == 0
+    assert choose_seed([{"seed": 1, "mean_h": 0.52}, {"seed": 0, "mean_h": 0.52}]) == 1  # the packaged (first) row
+    with pytest.raises(ValueError, match="no seed"):
+        choose_seed([])
 
 
 def test_real_val_rule_takes_the_best_mean_of_both_val_sets_and_the_smaller_value_on_a_tie():

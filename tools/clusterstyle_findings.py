@@ -148,10 +148,11 @@ def seeds(checkpoints, n_pairs: int = 200) -> dict:
             raise ValueError(f"--checkpoints: {path} was trained with seed {seed}, as {seen[seed]} was")
         seen[seed] = path
     pairs, ev, rows = val_pairs(n_pairs), Evaluator(), []
+    course = load_pipeline().cfg  # every seed at the packaged guidance, whatever its own file stores
     for seed, path in seen.items():
         pipe = load_pipeline(path=path)
-        rows.append({"seed": seed, "file": Path(path).name, "guide_weight": pipe.cfg.guide_weight,
-                     **scored_transfers(pipe, pairs, ev)})
+        rows.append({"seed": seed, "file": Path(path).name, "guide_weight": course.guide_weight,
+                     **scored_transfers(pipe, pairs, ev, weight=course.guide_weight, cfg_style=course.cfg_style)})
         print(rows[-1], flush=True)
     return {"pairs": n_pairs, "split": "val", "rows": rows, "rule": SEED_RULE,
             "trained_with": [f"python -m mslib train clusterstyle --preset course --seed {r['seed']} --out {r['file']}"

@@ -3,6 +3,7 @@
     .venv/bin/python tools/contrastive_findings.py train VARIANT OUT.pt   # one training recipe
     .venv/bin/python tools/contrastive_findings.py val course OUT.pt       # H, CRA, SRA on a val draw
     .venv/bin/python tools/contrastive_findings.py strength                # the course model at several w
+    .venv/bin/python tools/contrastive_findings.py window                  # … at several transfer windows
     .venv/bin/python tools/contrastive_findings.py ceiling [LABEL=PATH]    # what the evaluator reads (below)
     .venv/bin/python tools/contrastive_findings.py seeds A.pt B.pt         # the course recipe, other seeds (COURSE_RUN)
     .venv/bin/python tools/contrastive_findings.py styles [LABEL=PATH ...]  # SRA and CRA style by style
@@ -34,7 +35,9 @@ reproduce at commit 3748be4 (`git checkout 3748be4`, then the row's command, `tr
 (content, style) pairs drawn from the val splits, styles in turn, and reports how often the predicted
 content is the *style* clip's content (content leaking through the style code), all at C's transfer
 (style strength w = 1). `strength` scores the packaged checkpoint on the same pairs at several w
-(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))), w > 1 included: would another w than C's do better? `ceiling`
+(E_s(M^T) + w·(E_s(M^S) − E_s(M^T))), w > 1 included: would another w than C's do better? `window` scores it
+at several transfer windows (WINDOWS; the built-in half of how the course's `transfer_window` is chosen,
+tools/real_val.py adds real val pairs). `ceiling`
 scores, on the same pairs, transfers that learn nothing: the target's features with their time
 mean moved a fraction w_μ toward the style clip's and their movement scaled per dimension by
 (σ_style/σ_target)^w_σ, i.e. A Eq. 2 applied to the raw features; then it splits the packaged model's
@@ -52,6 +55,7 @@ and commit). The findings (a)–(d) themselves: `python tools/contrastive_analys
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -114,9 +118,10 @@ def best_seed(rows, strength: float) -> int:
     return max(at, key=lambda r: r["h"])["seed"]
 
 
-def score(model, pairs, evaluator, strength=None) -> dict:
-    """Bench metrics on the pairs, plus the share of outputs classified as the style clip's content."""
-    outs = [decode(model.transfer_features(c["features"], s["features"], strength)) for c, s in pairs]
+def score(model, pairs, evaluator, strength=None, window=None) -> dict:
+    """Bench metrics on the pairs, plus the share of outputs classified as the style clip's content (`strength`
+    and `window`: the transfer's, default the model's config)."""
+    outs = [decode(model.transfer_features(c["features"], s["features"], strength, window)) for c, s in pairs]
     row = score_outputs(outs, pairs, evaluator)
     c_logits = evaluator.score(outs)[0]
     pred = [evaluator.content.classes[i] for i in c_logits.argmax(1)]
@@ -127,6 +132,7 @@ def score(model, pairs, evaluator, strength=None) -> dict:
 
 SEED_RULE = "package the seed with the highest H on the val pairs at the course style strength"
 STRENGTHS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.4)
+WINDOWS = (0, 32, 48, 64, 96)  # transfer windows (rows; 0: the whole clip, C's own) of the `window` sweep
 STATS_MIXES = ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0), (0.5, 0.5))  # (w_μ, w_σ) of the no-learning transfers; (0, 0): identity
 
 
@@ -235,6 +241,8 @@ def main(argv=None) -> int:
     t.add_argument("--resume", action="store_true", help="continue from OUT, saved by a run that was cut")
     w = sub.add_parser("strength", help="the packaged checkpoint at several style strengths on the val pairs")
     w.add_argument("--save", action="store_true")
+    n = sub.add_parser("window", help="the packaged checkpoint at several transfer windows on the val pairs")
+    n.add_argument("--save", action="store_true")
     g = sub.add_parser("ceiling", help="no-learning transfers and the packaged model's posture and movement")
     g.add_argument("checkpoint", nargs="?", default="course", help="`course` (the packaged one) or LABEL=PATH")
     g.add_argument("--save", action="store_true")
@@ -274,7 +282,8 @@ def main(argv=None) -> int:
             if ck is not None and not Path(ck).is_file():
                 raise SystemExit(f"checkpoint {ck}: no such file")
             model = C.load(ck)
-            if model.cfg != C.ContrastiveConfig.preset("course"):
+            course = C.ContrastiveConfig.preset("course")  # the transfer window is inference only: not compared
+            if dataclasses.replace(model.cfg, transfer_window=course.transfer_window) != course:
                 raise SystemExit(f"checkpoint {ck or 'packaged'}: not trained with the course preset")
             seed = trained_seed(ck or course_path(C.NAME), C.NAME)
             if seed in models:
@@ -283,9 +292,11 @@ def main(argv=None) -> int:
             if ck is not None:
                 trained.append(f"{COURSE_RUN} --seed {seed} --out {Path(ck).name}")
         rows, packaged_seed = [], next(iter(models))  # the packaged checkpoint is read (and scored) first
+        window = models[packaged_seed].cfg.transfer_window  # every seed at the packaged transfer window
         for seed, model in models.items():
             for st in sorted({1.0, model.cfg.style_strength}):  # C's transfer (the recipe table's w) and the course w
-                rows.append({"seed": seed, "strength": st, **rounded(score(model, pairs, evaluator, st))})
+                rows.append({"seed": seed, "strength": st, "window": window,
+                             **rounded(score(model, pairs, evaluator, st, window))})
                 print(rows[-1], flush=True)
         if args.save:  # the command as a reader reruns it: train each seed, then score
             names = " ".join(Path(ck).name for ck in args.checkpoints)
@@ -297,6 +308,15 @@ def main(argv=None) -> int:
         part = {**_made(_command(argv)), "transfers": styles(pairs, evaluator, args.checkpoints)}
         if args.save:
             save({"styles": part})
+        return 0
+    if args.cmd == "window":
+        model = C.load()
+        sweep = []
+        for n_rows in WINDOWS:
+            sweep.append({"window": n_rows, **rounded(score(model, pairs, evaluator, window=n_rows))})
+            print(sweep[-1], flush=True)
+        if args.save:
+            save({"window": {**_made(_command(argv)), "course_window": model.cfg.transfer_window, "rows": sweep}})
         return 0
     if args.cmd == "strength":
         model = C.load()

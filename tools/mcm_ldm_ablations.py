@@ -7,10 +7,10 @@ The JSON records the packaged VAE's latent (arch, tokens, width); rows measured 
 Variants: full (short run, the reference for the switches), no_remover (use_remover=False), no_traj
 (use_traj=False), scratch_style (pretrained_style=False); sweep: the packaged course model at
 λ ∈ {0, 1, 2.5, 5} (B's λ claim, on the benchmark pairs); choose: the packaged model at λ ∈ VAL_SCALES on
-200 VALIDATION pairs — how the course preset's `cfg_scale` is chosen (the best val H) — and then, at that λ,
-at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the fewest steps whose val H is within STEPS_TOLERANCE
-of the most steps'; fewer steps are proportionally faster), stored as the section "choose"; seeds: the course
-recipe trained again with other seeds (`--seeds`; by default those of 0–2 that did not make the packaged model),
+200 VALIDATION pairs — the built-in half of how the course preset's `cfg_scale` is chosen (tools/real_val.py
+adds real val pairs) — and then, at the course λ, at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the
+fewest steps whose val H is within STEPS_TOLERANCE of the most steps'; fewer steps are proportionally faster),
+stored as the section "choose"; seeds: the course recipe trained again with other seeds (`--seeds`; by default those of 0–2 that did not make the packaged model),
 each scored beside the packaged model (labelled by the seed it stores) on the same 200 val pairs at the course λ
 and steps — how the packaged seed is chosen (SEED_RULE), stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
@@ -98,13 +98,15 @@ def main(argv=None) -> int:
             return row
         val = [val_row(scale=lam, steps=max(VAL_STEPS)) for lam in VAL_SCALES]
         best = max(val, key=lambda r: r["h"])["scale"]
-        steps_rows = [val_row(scale=best, steps=n) for n in VAL_STEPS]
+        course = tr.model.cfg.cfg_scale  # the packaged λ (chosen on built-in and real val pairs)
+        steps_rows = [val_row(scale=course, steps=n) for n in VAL_STEPS]
         most = next(r["h"] for r in steps_rows if r["steps"] == max(VAL_STEPS))
         best_steps = min(r["steps"] for r in steps_rows if r["h"] >= most - STEPS_TOLERANCE)
         update_json(OUT, {"choose": {"rows": val, "best_scale": best, "rule": "the highest H on 200 val pairs",
                                      "steps_rows": steps_rows, "best_steps": best_steps,
                                      "steps_rule": f"the fewest DDIM steps with val H within {STEPS_TOLERANCE} of "
-                                                   f"{max(VAL_STEPS)} steps' (at the chosen λ)",
+                                                   f"{max(VAL_STEPS)} steps' (at the course λ)",
+                                     "steps_scale": course,
                                      "val_pairs": 200, "checkpoint": checkpoint_digest("mcm_ldm"),
                                      "command": command, "commit": commit}})
     if "seeds" in todo:
@@ -144,8 +146,9 @@ def seed_rows(P, paths, seeds, workdir: Path, ev, command: str, commit: str) -> 
     from mslib.data.corpora import source_fingerprint
     vpairs, corpus = val_pairs(200), source_fingerprint()
 
-    def val_h(tr, seed, **extra):
-        row = {"seed": seed, **scored(tr, vpairs, ev), "corpus": corpus, "commit": commit, **extra}
+    def val_h(tr, seed, **extra):  # every seed at the packaged λ and steps, whatever its own file stores
+        knob = {"scale": packaged.model.cfg.cfg_scale, "steps": packaged.model.cfg.ddim_steps}
+        row = {"seed": seed, **scored(tr, vpairs, ev, **knob), "corpus": corpus, "commit": commit, **extra}
         print(json.dumps(row), flush=True)
         return row
     packaged_seed = trained_seed(course_path("mcm_ldm"), "mcm_ldm")

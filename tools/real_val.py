@@ -2,11 +2,13 @@
 and judged by the real judges; writes notebooks/data/07_real_val.json.
 
     OMP_NUM_THREADS=1 python tools/real_val.py --xia-train XIA_TRAIN_BVH [--workdir DIR] \\
-        [--methods adain,dsdn,contrastive,mcm_ldm,clusterstyle] [--pairs 200]
+        [--methods adain,dsdn,contrastive,contrastive_window,mcm_ldm,clusterstyle] [--pairs 200] \\
+        [--seeds METHOD=A.pt,B.pt ...]
 
-Every knob of the course presets (adain's style strength w, DSDN's correction strength κ, MCM-LDM's guidance
-scale λ, ClusterStyle's style guidance weight) was first chosen on built-in val pairs only. Real motion capture
-is the yardstick now, so the knobs are also scored on real pairs that no judge and no choice has seen:
+Every knob of the course presets (adain's style strength w, DSDN's correction strength κ, ContrastiveStyle's
+transfer window, MCM-LDM's guidance scale λ, ClusterStyle's style guidance weight) was first chosen on built-in val
+pairs only. Real motion capture is the yardstick now, so the knobs are also scored on real pairs that no judge and
+no choice has seen:
 
 - **the real val takes**: `data_prep.bvh` puts each take of the Xia *train* split into its own train, val or
   test split. The real judges (tools/real_bench.py's: the packaged evaluator's recipe, seed 0) train on its
@@ -18,6 +20,9 @@ is the yardstick now, so the knobs are also scored on real pairs that no judge a
 - **the rule** (RULE, fixed before any real val pair was scored): the value with the highest mean of its
   built-in val H and its real val H. ContrastiveStyle's w is a policy (C's transfer, w = 1), so its rows are
   reported, not used to choose.
+- **the seeds** (`--seeds`, SEED_RULE): the packaged checkpoint and the course recipe trained with other seeds,
+  each scored at the course knobs on the built-in val pairs of the seed searches and on the real val pairs; the
+  seed with the best mean of the two val H is packaged.
 
 The choices are applied by hand (the preset and the packaged checkpoint's stored config), as each tool's are.
 """
@@ -36,8 +41,13 @@ pin_cpu_code_paths()  # before numpy and torch load, as tools/real_bench.py
 from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
 
 OUT = DATA_DIR / "07_real_val.json"
-METHODS = ("adain", "dsdn", "contrastive", "mcm_ldm", "clusterstyle")
+METHODS = ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clusterstyle")  # each one knob
 POLICY = {"contrastive": "C's own transfer, w = 1"}
+CHECKPOINT = {"contrastive_window": "contrastive"}  # a knob's checkpoint, where not named as the method
+SEEDED = ("adain", "contrastive", "mcm_ldm", "clusterstyle")  # the methods whose seeds --seeds compares
+SEED_RULE = ("package the seed whose checkpoint has the highest mean of its built-in val H (200 built-in val pairs, "
+             "the seed searches' draw) and its real val H, both at the course knob; a tie keeps the packaged seed "
+             "(fixed before any seed was scored on real val pairs)")
 RULE = ("the knob value with the highest mean of its built-in val H (the method tool's stored sweep) and its real "
         "val H, among the values both scored (fixed before any real val pair was scored)")
 
@@ -54,6 +64,7 @@ def builtin_sweeps() -> dict:
     from mslib.checkpoints import read_checkpoint, course_path
     adain, dsdn = _stored("02_adain_variants.json")["strength"], _stored("05_dsdn_ablation.json")["strength"]
     contrastive = _stored("03_contrastive_recipes.json")["strength"]
+    c_window = _stored("03_contrastive_recipes.json").get("window", {"course_window": 0, "rows": []})
     mcm = _stored("04_ablations.json")["choose"]
     cs_cfg = read_checkpoint(course_path("clusterstyle"), "clusterstyle")["config"]["model"]
     cs = [r for r in _stored("06_clusterstyle_findings.json")["guidance"]["rows"]
@@ -65,40 +76,84 @@ def builtin_sweeps() -> dict:
         "adain": ("w", adain_cfg["style_strength"], {r["strength"]: r["h"] for r in adain["rows"]}),
         "dsdn": ("κ", dsdn_cfg["correction_strength"], {r["strength"]: r["h"] for r in dsdn["rows"]}),
         "contrastive": ("w", contrastive["course_strength"], {r["strength"]: r["h"] for r in contrastive["rows"]}),
+        "contrastive_window": ("transfer window", read_checkpoint(course_path("contrastive"), "contrastive")["config"]
+                               .get("transfer_window", 0), {r["window"]: r["h"] for r in c_window["rows"]}),
         "mcm_ldm": ("λ", mcm_cfg["cfg_scale"], {r["scale"]: r["h"] for r in mcm["rows"]}),
         "clusterstyle": ("guide_weight", cs_cfg["guide_weight"], {r["weight"]: r["h"] for r in cs}),
     }
 
 
-def real_sweep(method: str, values, pairs, ev) -> list:
-    """Rows {value, h, cra, sra} of `method` on the pairs at each knob value, judged by `ev`."""
-    from tools import adain_variants, clusterstyle_findings, contrastive_findings, dsdn_ablation, mcm_ldm_ablations
-    keys = ("h", "cra", "sra")
+def scorer(method: str, path=None):
+    """A function (pairs, ev, value) → {h, cra, sra, …} scoring `method`'s checkpoint at `path` (default: the
+    packaged one) at one knob value, by the method tool's own scoring function."""
+    from tools import adain_variants, clusterstyle_findings, contrastive_findings, mcm_ldm_ablations
     if method == "adain":
         from mslib.models.adain import load_adain
-        model = load_adain()
-        rows = [adain_variants.score(model, pairs, ev, v) for v in values]
-    elif method == "dsdn":
-        rows = dsdn_ablation.strength_sweep(kappas=tuple(values), pairs=pairs, ev=ev)
-    elif method == "contrastive":
+        model = load_adain(path)
+        return lambda pairs, ev, v: adain_variants.score(model, pairs, ev, v)
+    if method in ("contrastive", "contrastive_window"):
         from mslib.models import contrastive as C
-        model = C.load(None)
-        rows = [contrastive_findings.score(model, pairs, ev, v) for v in values]
-    elif method == "mcm_ldm":
+        model = C.load(path)
+        window = C.load().cfg.transfer_window  # every checkpoint at the packaged transfer window
+        if method == "contrastive_window":
+            return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, None, int(v))
+        return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, v, window)
+    if method == "mcm_ldm":
         from mslib.models import mcm_ldm as P
-        tr = P.load_mcm_ldm()
-        rows = [mcm_ldm_ablations.scored(tr, pairs, ev, scale=v) for v in values]
-    elif method == "clusterstyle":
+        tr = P.load_mcm_ldm(path)
+        return lambda pairs, ev, v: mcm_ldm_ablations.scored(tr, pairs, ev, scale=v)
+    if method == "clusterstyle":
         from mslib.models.clusterstyle import load_pipeline
-        pipe = load_pipeline()
+        pipe = load_pipeline(path=path)
         ss = pipe.cfg.cfg_style  # the packaged s_s (its guidance rows were swept at it)
-        rows = [clusterstyle_findings.scored_transfers(pipe, pairs, ev, keys, weight=v, cfg_style=ss) for v in values]
+        return lambda pairs, ev, v: clusterstyle_findings.scored_transfers(pipe, pairs, ev, ("h", "cra", "sra"),
+                                                                            weight=v, cfg_style=ss)
+    raise ValueError(f"unknown method {method!r}; expected one of {', '.join(SEEDED)} or contrastive_window")
+
+
+def real_sweep(method: str, values, pairs, ev) -> list:
+    """Rows {value, h, cra, sra} of `method` on the pairs at each knob value, judged by `ev`."""
+    from tools import dsdn_ablation
+    keys = ("h", "cra", "sra")
+    if method == "dsdn":  # stage 1 once for every κ; strength_sweep prints its rows
+        rows = dsdn_ablation.strength_sweep(kappas=tuple(values), pairs=pairs, ev=ev)
     else:
-        raise ValueError(f"--methods: unknown method {method!r}; expected some of {', '.join(METHODS)}")
+        score = scorer(method)
+        rows = [score(pairs, ev, v) for v in values]
     out = [{"value": v, **{k: round(float(r[k]), 4) for k in keys}} for v, r in zip(values, rows)]
-    for row in out:
-        print(method, json.dumps(row), flush=True)
+    if method != "dsdn":
+        for row in out:
+            print(method, json.dumps(row), flush=True)
     return out
+
+
+def seed_rows(method: str, checkpoints, knob_value, builtin_pairs, builtin_ev, real_pairs_, real_ev) -> dict:
+    """The packaged checkpoint and `checkpoints` (the course recipe at other seeds), each scored at the course
+    knob on the built-in and the real val pairs; the seed SEED_RULE packages."""
+    from mslib.checkpoints import course_path, file_digest, trained_seed
+    paths, seen = [course_path(method), *checkpoints], {}
+    for path in paths:  # before any scoring: every checkpoint must be another seed's
+        seed = trained_seed(path, method)
+        if seed in seen:
+            raise ValueError(f"--seeds: {path} was trained with seed {seed}, as {seen[seed]} was")
+        seen[seed] = path
+    rows = []
+    for seed, path in seen.items():
+        score = scorer(method, path)
+        b, r = score(builtin_pairs, builtin_ev, knob_value), score(real_pairs_, real_ev, knob_value)
+        rows.append({"seed": seed, "checkpoint": file_digest(path), "builtin_h": round(float(b["h"]), 4),
+                     **{k: round(float(r[k]), 4) for k in ("h", "cra", "sra")},
+                     "mean_h": round((float(b["h"]) + float(r["h"])) / 2, 4)})
+        print(method, "seed", json.dumps(rows[-1]), flush=True)
+    return {"value": knob_value, "rows": rows, "packaged_seed": rows[0]["seed"], "chosen_seed": choose_seed(rows)}
+
+
+def choose_seed(rows: list) -> int:
+    """SEED_RULE on rows {seed, mean_h}, the packaged seed's first: the seed of the highest mean_h (a tie: the
+    first row's)."""
+    if not rows:
+        raise ValueError("no seed was scored")
+    return max(rows, key=lambda r: r["mean_h"])["seed"]  # max keeps the first of a tie
 
 
 def choose(rows: list, builtin: dict) -> dict:
@@ -121,12 +176,24 @@ def main(argv=None) -> int:
                     help="converted folders and the real judges (tools/real_bench.py's; kept for the next run)")
     ap.add_argument("--methods", default=",".join(METHODS), help="comma-separated")
     ap.add_argument("--pairs", type=int, default=200, help="a draw of this many real val pairs")
+    ap.add_argument("--seeds", action="append", default=[], metavar="METHOD=A.pt,B.pt",
+                    help="also score these checkpoints (the course recipe at other seeds) beside the packaged one at "
+                         "the course knob, on built-in and real val pairs (SEED_RULE); repeat per method")
     ap.add_argument("--no-save", action="store_true", help="print only; leave the stored JSON alone")
     args = ap.parse_args(argv)
     methods = [m for m in args.methods.split(",") if m]
     unknown = sorted(set(methods) - set(METHODS))
     if unknown:
         ap.error(f"--methods: unknown {unknown}; expected some of {', '.join(METHODS)}")
+    seed_checkpoints = {}
+    for spec in args.seeds:
+        method, _, files = spec.partition("=")
+        if method not in SEEDED or not files:
+            ap.error(f"--seeds {spec!r}: expected METHOD=A.pt[,B.pt…] with METHOD one of {', '.join(SEEDED)}")
+        missing = [f for f in files.split(",") if not Path(f).is_file()]
+        if missing:
+            ap.error(f"--seeds {spec!r}: no such checkpoint {missing[0]}")
+        seed_checkpoints[method] = files.split(",")
     import torch
     from mslib.checkpoints import checkpoint_digest
     from mslib.evaluation.bench import Evaluator
@@ -149,8 +216,20 @@ def main(argv=None) -> int:
         if method in POLICY:
             part = {**part, "chosen": packaged, "policy": POLICY[method], "best_by_rule": part["chosen"]}
         sections[method] = {"knob": knob, "packaged": packaged, **part, "seconds": round(time.time() - t0, 1),
-                            "checkpoint": checkpoint_digest("dsdn" if method == "dsdn" else method)}
+                            "checkpoint": checkpoint_digest(CHECKPOINT.get(method, method))}
         print(method, knob, "packaged", packaged, "chosen", sections[method]["chosen"], flush=True)
+    if seed_checkpoints:
+        from tools.common import val_pairs
+        builtin_pairs, builtin_ev, seeds = val_pairs(200), Evaluator(), {}
+        for method, files in seed_checkpoints.items():
+            seeds[method] = {"knob": sweeps[method][0],
+                             **seed_rows(method, files, sweeps[method][1], builtin_pairs, builtin_ev, pairs, ev),
+                             "command": "python tools/real_val.py --xia-train XIA_TRAIN_BVH --methods '' "
+                                        f"--seeds {method}=" + ",".join(Path(f).name for f in files)}
+            print(method, "packaged seed", seeds[method]["packaged_seed"], "chosen", seeds[method]["chosen_seed"],
+                  flush=True)
+        old = json.loads(OUT.read_text()).get("seeds", {}) if OUT.is_file() else {}
+        sections["seeds"] = {**{k: v for k, v in old.items() if k in SEEDED}, **seeds, "rule": SEED_RULE}
     if not args.no_save:
         update_json(OUT, {"rule": RULE, "pairs": len(pairs), "split": "test split of the converted Xia train split",
                           "contents": sorted({c["clip_id"] for c, _ in pairs}), "styles": len({s["clip_id"] for _, s in pairs}),

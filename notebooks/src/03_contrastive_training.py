@@ -231,6 +231,27 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # whichever row tops the table (here it does, but that is not why): rows near the top differ by less than the
 # draw moves them, and a $w$ fitted to one run's sweep need not suit another run.
 #
+# **How many frames at once?** $E_c$ ends in instance norms over time, $G$'s AdaIN blocks and the content skip
+# take statistics over time too, and the model trained on 31-row crops. Handed a 200-row clip whole, it meets time
+# statistics it never saw in training. So the course transfers a longer content on windows of `transfer_window`
+# rows that overlap by half, cross-faded: each row of the output is the weighted mean of the windows that hold it,
+# each window's weight rising linearly to its middle and falling to its ends (`mslib.models.common.windows`). C
+# transfers a clip whole. The window length was chosen on val pairs, built-in and real, by the rule of
+# appendix 08 (`tools/contrastive_findings.py window`, then `tools/real_val.py`); real val contents are short Xia
+# takes, so the built-in half decided.
+
+# %%
+win = {r["window"]: r for r in load_findings("03_contrastive_recipes")["window"]["rows"]}
+n_win = model.cfg.transfer_window
+print(f"the packaged model's transfer window: {n_win} rows (0 would transfer each clip whole, as C does)")
+for n in (0, n_win):
+    print(f"  {'whole clip' if n == 0 else f'windows of {n} rows':<18} built-in val H {win[n]['h']:.3f}  "
+          f"CRA {win[n]['cra']:.1f}  SRA {win[n]['sra']:.1f}")
+
+# %% [markdown]
+# The windows change what the transfer keeps, not how much style it carries: with them the evaluator reads the
+# content right more often (CRA), while SRA barely moves.
+#
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
 # runs trained **jointly**, as C does, without the course preset's departures, so that only C's terms shape
