@@ -224,9 +224,9 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others — adain most punches, runs and walks; contrastive most walks and punches; clusterstyle
-# most of every action but jumps, runs and punches worst; adain+dsdn most runs and about half its walks and kicks;
-# mcm_ldm most of its jumps, though it keeps punches best of all the methods.
+# actions well and loses others — adain most punches, runs and walks; contrastive most punches and about four in
+# ten walks; clusterstyle most of every action but jumps, runs worst of all; adain+dsdn most runs and about half its
+# walks and kicks; mcm_ldm most of its jumps, though it keeps punches best of all the methods.
 # A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a
