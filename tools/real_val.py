@@ -94,18 +94,19 @@ def scorer(method: str, path=None):
     if method in ("contrastive", "contrastive_window"):
         from mslib.models import contrastive as C
         model = C.load(path)
-        window = C.load().cfg.transfer_window  # every checkpoint at the packaged transfer window
+        window = (model if path is None else C.load()).cfg.transfer_window  # every checkpoint at the packaged one
         if method == "contrastive_window":
             return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, None, int(v))
         return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, v, window)
     if method == "mcm_ldm":
         from mslib.models import mcm_ldm as P
         tr = P.load_mcm_ldm(path)
-        return lambda pairs, ev, v: mcm_ldm_ablations.scored(tr, pairs, ev, scale=v)
+        steps = (tr if path is None else P.load_mcm_ldm()).model.cfg.ddim_steps  # the packaged steps for all
+        return lambda pairs, ev, v: mcm_ldm_ablations.scored(tr, pairs, ev, scale=v, steps=steps)
     if method == "clusterstyle":
         from mslib.models.clusterstyle import load_pipeline
         pipe = load_pipeline(path=path)
-        ss = pipe.cfg.cfg_style  # the packaged s_s (its guidance rows were swept at it)
+        ss = (pipe if path is None else load_pipeline()).cfg.cfg_style  # the packaged s_s (its guidance rows' s_s)
         return lambda pairs, ev, v: clusterstyle_findings.scored_transfers(pipe, pairs, ev, ("h", "cra", "sra"),
                                                                             weight=v, cfg_style=ss)
     raise ValueError(f"unknown method {method!r}; expected one of {', '.join(SEEDED)} or contrastive_window")

@@ -222,6 +222,12 @@ for r in sweep["rows"]:
     print(f"{r['strength']:>5.1f} {r['h']:>6.3f} {r['cra']:>6.1f} {r['sra']:>6.1f} {r['content_from_style_clip']:>26.1f}")
 print(f"standard error of an accuracy near 50 % on 200 pairs: ±{100 * np.sqrt(0.25 / 200):.1f} points")
 print("the course preset's w:", cfg.style_strength, "| the packaged model's:", model.cfg.style_strength)
+win = {r["window"]: r for r in load_findings("03_contrastive_recipes")["window"]["rows"]}
+n_win = model.cfg.transfer_window  # the transfer window (below the table's reading): val pairs, whole clip vs windows
+print(f"\nthe packaged model's transfer window: {n_win} rows (0 would transfer each clip whole, as C does)")
+for n in (0, n_win):
+    print(f"  {'whole clip' if n == 0 else f'windows of {n} rows':<18} built-in val H {win[n]['h']:.3f}  "
+          f"CRA {win[n]['cra']:.1f}  SRA {win[n]['sra']:.1f}")
 
 # %% [markdown]
 # Read neighbouring rows as a plateau, not a ranking: an accuracy on 200 pairs moves by several points
@@ -238,19 +244,9 @@ print("the course preset's w:", cfg.style_strength, "| the packaged model's:", m
 # each window's weight rising linearly to its middle and falling to its ends (`mslib.models.common.windows`). C
 # transfers a clip whole. The window length was chosen on val pairs, built-in and real, by the rule of
 # appendix 08 (`tools/contrastive_findings.py window`, then `tools/real_val.py`); real val contents are short Xia
-# takes, so the built-in half decided.
-
-# %%
-win = {r["window"]: r for r in load_findings("03_contrastive_recipes")["window"]["rows"]}
-n_win = model.cfg.transfer_window
-print(f"the packaged model's transfer window: {n_win} rows (0 would transfer each clip whole, as C does)")
-for n in (0, n_win):
-    print(f"  {'whole clip' if n == 0 else f'windows of {n} rows':<18} built-in val H {win[n]['h']:.3f}  "
-          f"CRA {win[n]['cra']:.1f}  SRA {win[n]['sra']:.1f}")
-
-# %% [markdown]
-# The windows change what the transfer keeps, not how much style it carries: with them the evaluator reads the
-# content right more often (CRA), while SRA barely moves.
+# takes, so the built-in half decided. The last lines under the table compare the two on the same val pairs: the
+# windows change what the transfer keeps, not how much style it carries — with them the evaluator reads the content
+# right more often (CRA), while SRA barely moves.
 #
 # ## 5. C's findings
 # C's representation claims need several models trained the same way with one setting changed — short
