@@ -216,6 +216,17 @@ def test_real_val_seed_rule_takes_the_best_mean_and_keeps_the_packaged_seed_on_a
         choose_seed([])
 
 
+def test_real_val_refuses_a_seed_spec_it_cannot_compare_before_any_work(tmp_path, capsys):
+    from tools.real_val import main
+    for spec, message in (("dsdn=a.pt", "METHOD one of adain, contrastive, mcm_ldm, clusterstyle"),
+                          ("adain", "expected METHOD=A.pt"),
+                          (f"adain={tmp_path / 'missing.pt'}", "no such checkpoint")):
+        with pytest.raises(SystemExit):
+            main(["--xia-train", str(tmp_path / "no_bvh_here"), "--methods", "", "--seeds", spec])
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "no_bvh_here").exists()  # refused before converting anything
+
+
 def test_real_val_rule_takes_the_best_mean_of_both_val_sets_and_the_smaller_value_on_a_tie():
     from tools.real_val import choose
     real = [{"value": v, "h": h} for v, h in ((0.5, 0.30), (0.6, 0.40), (0.7, 0.44), (0.9, 0.99))]
