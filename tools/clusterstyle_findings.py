@@ -148,9 +148,10 @@ def seeds(checkpoints, n_pairs: int = 200) -> dict:
             raise ValueError(f"--checkpoints: {path} was trained with seed {seed}, as {seen[seed]} was")
         seen[seed] = path
     pairs, ev, rows = val_pairs(n_pairs), Evaluator(), []
-    course = load_pipeline().cfg  # every seed at the packaged guidance, whatever its own file stores
+    course = None  # every seed at the packaged guidance (read first), whatever its own file stores
     for seed, path in seen.items():
         pipe = load_pipeline(path=path)
+        course = course or pipe.cfg
         rows.append({"seed": seed, "file": Path(path).name, "guide_weight": course.guide_weight,
                      **scored_transfers(pipe, pairs, ev, weight=course.guide_weight, cfg_style=course.cfg_style)})
         print(rows[-1], flush=True)

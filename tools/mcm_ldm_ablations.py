@@ -10,9 +10,10 @@ Variants: full (short run, the reference for the switches), no_remover (use_remo
 200 VALIDATION pairs — the built-in half of how the course preset's `cfg_scale` is chosen (tools/real_val.py
 adds real val pairs) — and then, at the course λ, at DDIM steps ∈ VAL_STEPS: how `ddim_steps` is chosen (the
 fewest steps whose val H is within STEPS_TOLERANCE of the most steps'; fewer steps are proportionally faster),
-stored as the section "choose"; seeds: the course recipe trained again with other seeds (`--seeds`; by default those of 0–2 that did not make the packaged model),
-each scored beside the packaged model (labelled by the seed it stores) on the same 200 val pairs at the course λ
-and steps — how the packaged seed is chosen (SEED_RULE), stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
+stored as the section "choose"; seeds: the course recipe trained again with other seeds (`--seeds`; by default
+those of 0–2 that did not make the packaged model), each scored beside the packaged model (labelled by the seed
+it stores) on the same 200 val pairs at the course λ and steps — how the packaged seed is chosen (SEED_RULE),
+stored as the section "seeds". Rows already in the JSON are kept unless re-run. Every row names its "commit": HEAD
 when this tool measured it (the table itself lands in a later commit); rows stored before rows carried
 one name the commit that stored them.
 """

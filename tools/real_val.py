@@ -59,25 +59,28 @@ def _stored(name: str) -> dict:
     return json.loads(path.read_text())
 
 
+def packaged_config(name: str) -> dict:
+    """The config a packaged checkpoint stores (its weights unread by any model)."""
+    from mslib.checkpoints import course_path, read_checkpoint
+    return read_checkpoint(course_path(name), name)["config"]
+
+
 def builtin_sweeps() -> dict:
     """method → (knob, packaged value, {value: built-in val H}) from each tool's stored sweep."""
-    from mslib.checkpoints import read_checkpoint, course_path
     adain, dsdn = _stored("02_adain_variants.json")["strength"], _stored("05_dsdn_ablation.json")["strength"]
     contrastive = _stored("03_contrastive_recipes.json")["strength"]
     c_window = _stored("03_contrastive_recipes.json").get("window", {"course_window": 0, "rows": []})
     mcm = _stored("04_ablations.json")["choose"]
-    cs_cfg = read_checkpoint(course_path("clusterstyle"), "clusterstyle")["config"]["model"]
+    cs_cfg = packaged_config("clusterstyle")["model"]
     cs = [r for r in _stored("06_clusterstyle_findings.json")["guidance"]["rows"]
           if r["cfg_style"] == cs_cfg["cfg_style"]]
-    mcm_cfg = read_checkpoint(course_path("mcm_ldm"), "mcm_ldm")["config"]
-    dsdn_cfg = read_checkpoint(course_path("dsdn"), "dsdn")["config"]
-    adain_cfg = read_checkpoint(course_path("adain"), "adain")["config"]
+    mcm_cfg, dsdn_cfg, adain_cfg = (packaged_config(n) for n in ("mcm_ldm", "dsdn", "adain"))
     return {
         "adain": ("w", adain_cfg["style_strength"], {r["strength"]: r["h"] for r in adain["rows"]}),
         "dsdn": ("κ", dsdn_cfg["correction_strength"], {r["strength"]: r["h"] for r in dsdn["rows"]}),
         "contrastive": ("w", contrastive["course_strength"], {r["strength"]: r["h"] for r in contrastive["rows"]}),
-        "contrastive_window": ("transfer window", read_checkpoint(course_path("contrastive"), "contrastive")["config"]
-                               .get("transfer_window", 0), {r["window"]: r["h"] for r in c_window["rows"]}),
+        "contrastive_window": ("transfer window", packaged_config("contrastive").get("transfer_window", 0),
+                               {r["window"]: r["h"] for r in c_window["rows"]}),
         "mcm_ldm": ("λ", mcm_cfg["cfg_scale"], {r["scale"]: r["h"] for r in mcm["rows"]}),
         "clusterstyle": ("guide_weight", cs_cfg["guide_weight"], {r["weight"]: r["h"] for r in cs}),
     }
@@ -94,19 +97,19 @@ def scorer(method: str, path=None):
     if method in ("contrastive", "contrastive_window"):
         from mslib.models import contrastive as C
         model = C.load(path)
-        window = (model if path is None else C.load()).cfg.transfer_window  # every checkpoint at the packaged one
+        window = packaged_config("contrastive").get("transfer_window", 0)  # every checkpoint at the packaged one
         if method == "contrastive_window":
             return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, None, int(v))
         return lambda pairs, ev, v: contrastive_findings.score(model, pairs, ev, v, window)
     if method == "mcm_ldm":
         from mslib.models import mcm_ldm as P
         tr = P.load_mcm_ldm(path)
-        steps = (tr if path is None else P.load_mcm_ldm()).model.cfg.ddim_steps  # the packaged steps for all
+        steps = packaged_config("mcm_ldm")["ddim_steps"]  # every checkpoint at the packaged steps
         return lambda pairs, ev, v: mcm_ldm_ablations.scored(tr, pairs, ev, scale=v, steps=steps)
     if method == "clusterstyle":
         from mslib.models.clusterstyle import load_pipeline
         pipe = load_pipeline(path=path)
-        ss = (pipe if path is None else load_pipeline()).cfg.cfg_style  # the packaged s_s (its guidance rows' s_s)
+        ss = packaged_config("clusterstyle")["model"]["cfg_style"]  # the packaged s_s (its guidance rows' s_s)
         return lambda pairs, ev, v: clusterstyle_findings.scored_transfers(pipe, pairs, ev, ("h", "cra", "sra"),
                                                                             weight=v, cfg_style=ss)
     raise ValueError(f"unknown method {method!r}; expected one of {', '.join(SEEDED)} or contrastive_window")
