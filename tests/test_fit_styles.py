@@ -23,7 +23,7 @@ def table():
 def test_the_stored_table_says_what_made_it_and_fits_the_generator(table):
     assert table["command"].startswith("python tools/fit_styles.py --real ")
     assert len(table["real"]["digest"]) == 12
-    # v5–v8 are v4 plus the per-joint moment layer, fitted on top of this table (test_joint_moments.py); v8 also
+    # v5–v9 are v4 plus the per-joint moment layer, fitted on top of this table (test_joint_moments.py); v8 also
     # plans jumps alike for every style (actions.py), so the jump cells of the layer were refitted for it
     assert table["generator_version"] in (GENERATOR_VERSION, 4)
     assert set(table["styles"]) == set(styles.STYLES) and table["fitted_params"] == list(F.FITTED_PARAMS)

@@ -261,7 +261,8 @@ def fit(real, jobs: int = 1, iters: int = ITERS, only=None, progress: bool = Tru
     if only:  # the cells not refitted stay as the layer in place has them
         cells = {**in_place, **cells}
         done = {**kept.get("fit", {}), **done}
-        earlier = kept.get("earlier_commands", []) + [kept["command"]] if kept.get("command") else []
+    if kept.get("command"):  # a warm start or a partial refit builds on the commands that made the layer in place
+        earlier = kept.get("earlier_commands", []) + [kept["command"]]
     fitted_styles = Path(jm.__file__).with_name("fitted_styles.json")
     return {"command": None, "earlier_commands": earlier,
             "real": {"folder": Path(real).name, "digest": folder_digest(real)},

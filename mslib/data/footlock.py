@@ -15,8 +15,8 @@ when flat, positive while it rolls over the toe joint (heel up, the toe is the p
    of that), so the path is then low-passed (`ROOT_SMOOTHING`); step 2 re-plants the feet exactly.
 2. `lock_feet` — every contact interval gets an anchor (where the flat foot's toe is, on the
    floor) and a heading; the foot's orientation follows the pitch profile about its pivot, and an
-   analytic two-bone IK (thigh, shank) puts the ankle where that needs it, exactly. Outside
-   contact the correction fades over a few frames and the swing foot is kept above the floor.
+   analytic two-bone IK (thigh, shank) puts the ankle where that needs it, exactly, the knee bent
+   toward the front of the thigh (`KNEE_POLE_FORWARD`) as a human knee only can. Outside contact the correction fades over a few frames and the swing foot is kept above the floor.
    The root is lowered where a leg could not reach its anchor.
 
 Both work on a *batch*: several clips concatenated along time, `segments` giving each clip's
@@ -35,6 +35,7 @@ from .body import LEG
 
 GRAVITY = 9.81
 REACH = 0.995  # a planted leg straightens to at most this fraction of thigh + shank
+KNEE_POLE_FORWARD = 1.0  # m: the IK bends each knee toward a point this far in front of the planned knee
 ROOT_SMOOTHING = (0.14, 0.04)  # s: Gaussian σ of the root path across (x, z) and up (y)
 
 
@@ -221,7 +222,10 @@ def _solve_leg(H, K_fk, A, G0, G_hip, R_knee, R_ankle, o_knee, o_ankle, o_toe, G
     """Two-bone IK of one leg toward ankle goals A (N, 3); local hip, knee and ankle rotations
     (3, 3, N each), the ankle and the toe positions reached (N, 3)."""
     l1, l2 = np.sqrt((o_knee ** 2).sum(0)), np.sqrt((o_ankle ** 2).sum(0))
-    K_new, A_new = _two_bone_ik(H, K_fk, A, l1, l2)
+    # bend toward the front of the thigh (its +Z, the body faces +Z at rest): a planned knee behind the
+    # hip–ankle line — a nearly straight stance leg under a tilted pelvis — would otherwise bend it backward
+    forward = kin.mv(G_hip, np.array([0.0, 0.0, 1.0])[:, None] * np.ones_like(l1)).T  # (N, 3)
+    K_new, A_new = _two_bone_ik(H, K_fk + KNEE_POLE_FORWARD * forward, A, l1, l2)
     G_hip_new = kin.mm(kin.between(_unit_cols(kin.mv(G_hip, o_knee)), _unit_cols((K_new - H).T)), G_hip)
     G_knee = kin.mm(G_hip_new, R_knee)
     G_knee = kin.mm(kin.between(_unit_cols(kin.mv(G_knee, o_ankle)), _unit_cols((A_new - K_new).T)), G_knee)

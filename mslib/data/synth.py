@@ -26,7 +26,7 @@ from . import actions, gait, joint_moments, kin, styles
 from .body import FOOT_CONTACT_JOINTS, leg_length, random_body, rot_y
 from .footlock import anchor_root, lock_feet
 
-GENERATOR_VERSION = 8  # bump on any change to the generated numbers: cached corpora are rebuilt
+GENERATOR_VERSION = 9  # bump on any change to the generated numbers: cached corpora are rebuilt
 DURATION_RANGE = (2.0, 10.0)  # seconds
 ANGLE_SMOOTHING = 0.04  # s: Gaussian σ over time of the planned joint angles (real capture is smoother)
 MAX_JOINT_SPEED = 12.0  # m/s: no joint of a clip moves faster (a fast kick's foot is about 10)
