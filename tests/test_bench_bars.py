@@ -41,11 +41,10 @@ def builtin():
     return {m: bench_row(m, 0, o, pairs, ev, 0.0) for m, o in outputs.items()}, outputs
 
 
-H_MISSED = {"adain": "H 0.515 (CRA 41.5, SRA 68.0) at the val-chosen w = 0.6, seed 0",
-            "adain+dsdn": "H 0.647 (CRA 66.5, SRA 63.0) at the val-chosen κ = 0.5 (built-in val alone: κ 0.75)",
-            "contrastive": "H 0.642 (CRA 73.5, SRA 57.0; C's w = 1, seed 1, windows of 48 rows)",
-            "mcm_ldm": "H 0.554 (CRA 47.5, SRA 66.5: λ 2 chosen on built-in and real val pairs)",
-            "clusterstyle": "H 0.634 (CRA 70.0, SRA 58.0: guidance weight w = 1500 chosen on built-in and real val, "
+H_MISSED = {"adain": "H 0.598 (CRA 53.0, SRA 68.5) at the val-chosen w = 0.55, seed 0",
+            "contrastive": "H 0.588 (CRA 73.5, SRA 49.0; C's w = 1, seed 1, windows of 48 rows)",
+            "mcm_ldm": "H 0.618 (CRA 52.5, SRA 75.0: λ 2 chosen on built-in and real val pairs)",
+            "clusterstyle": "H 0.647 (CRA 66.0, SRA 63.5: guidance weight w = 1500 chosen on built-in and real val, "
                             "seed 1)"}
 
 
@@ -85,12 +84,11 @@ def real(tmp_path_factory):
     return {r["method"]: r for r in run["rows"]["real"]}
 
 
-REAL_SRA_MISSED = {"adain": "SRA 37.9 at the val-chosen w = 0.6",
-                   "adain+dsdn": "SRA 35.4 (the correction smooths part of the real style away)",
-                   "contrastive": "SRA 38.6 at C's w = 1 (real val pairs favour w ≥ 1.4)",
-                   "clusterstyle": "SRA 38.6 at the val-chosen w = 1500"}
-REAL_CRA_MISSED = {"adain": "CRA 55.9", "adain+dsdn": "CRA 60.8", "clusterstyle": "CRA 36.7",
-                   "mcm_ldm": "CRA 64.1 at the val-chosen λ 2"}
+REAL_SRA_MISSED = {"adain": "SRA 31.5 at the val-chosen w = 0.55",
+                   "adain+dsdn": "SRA 29.0 (the correction smooths part of the real style away)",
+                   "contrastive": "SRA 34.0 at C's w = 1 (real val pairs favour w ≥ 1.4)"}
+REAL_CRA_MISSED = {"adain": "CRA 62.8", "adain+dsdn": "CRA 62.8", "clusterstyle": "CRA 51.9",
+                   "mcm_ldm": "CRA 59.2 at the val-chosen λ 2"}
 REAL_H_MISSED: dict = {}
 
 

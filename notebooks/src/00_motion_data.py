@@ -237,9 +237,9 @@ print(format_cross_scores(realism))
 # jerkier than its real counterpart (the jerk panel), the old one taking shorter and slower steps than the
 # real old walker (stride, speed). The other direction has nearly caught up: the evaluator trained on
 # built-in clips alone recognises most real test takes — every old and strutting one — but misses more of
-# the neutral takes than of any other style, and more of the angry and proud ones than of the rest. The linear recipe fitted on built-in windows (the last
-# lines) reads a few more real takes than the evaluator does: a little of the gap is the evaluator's
-# network, the rest is the data. The per-joint layer matches the cells' mean *poses* as well as the judges'
+# the neutral, angry and proud takes than of the rest. The linear recipe fitted on built-in windows (the last
+# lines) reads no more real takes than the evaluator does: the gap is not the evaluator's network but the
+# data. The per-joint layer matches the cells' mean *poses* as well as the judges'
 # directions, and a network trained on built-in clips reads poses first (the bounds below). Yet the
 # evaluator still misreads some real takes: a classifier trained on
 # built-in clips alone still learns cues of the generator that real takes do not share. That is why the
@@ -283,7 +283,7 @@ for judge, rows in (("linear judge", reverse["rows"]), ("evaluator's network", r
 # Moving the cells' means alone does not help the linear judge — it reads a few fewer real takes than when
 # trained on the corpus as generated — but matching the spreads too lifts it above the corpus as generated; even
 # so, a linear judge trained on such a corpus stays below one trained on real takes. The evaluator's network
-# gains more: it reads poses, and moving the mean poses already helps it where the built-in actions are furthest
+# gains more: it reads poses, and moving the mean poses already helps it a little where the built-in actions are furthest
 # from the real ones (the jumps, runs, punches and kicks). A built-in corpus whose styles held each action in the
 # real mean pose, and scattered about it as widely, would train it to recognise more real takes, though still
 # fewer than a linear judge trained on real takes does. What numbers per cell

@@ -278,12 +278,12 @@ print(f"{results['steps']} steps per short run, {len(labels)} held-out style cli
 print("C Fig. 2 (silhouette with the terms > without):", results["with"]["silhouette"] > results["without"]["silhouette"])
 
 # %% [markdown]
-# The last line says False: the silhouette is no higher with the terms than without, so **C Fig. 2 does not
-# hold here** — in these short runs the contrastive terms do not make the style codes group better. Neither run
-# groups them well: both silhouettes in the titles are below zero (the codes of one style are, on average, no closer to each other than to
-# another style's), and neither picture shows clean clusters by style. In a short joint run the triplet can
-# be met by E_s moving its own codes, and InfoNCE shapes the *content* code, not the style code, so the terms
-# have little grip on the style codes. The other two claims measured on such short runs do not hold here either: the
+# The last line says True: the silhouette is higher with the terms than without, so **C Fig. 2 holds here** in
+# direction. But neither run groups the codes well: both silhouettes in the titles are below zero (the codes of one
+# style are, on average, no closer to each other than to another style's), and neither picture shows clean
+# clusters by style; one short run each, so the gap between them is no larger than a seed could move it. In a short
+# joint run the triplet can be met by E_s moving its own codes, and InfoNCE shapes the *content* code, not the
+# style code, so the terms have little grip on the style codes. The other two claims measured on such short runs do not hold here either: the
 # best β of the sweep is not C's (C Table 1), and the codes of a style left out of training do not group (C Fig. 3);
 # appendix 08 gives their numbers. What the course model's E_s learned through the course's departures —
 # the autoencoder phase and the two windows of one recording — groups its codes far better than the short

@@ -366,8 +366,8 @@ fig = plot_transfer(demo_c["joints"], demo_s["joints"], course_out,
 # gradient of the cosine with respect to the noisy latent, against the size of a noise prediction, for the
 # walk of §7 noised to $t = 200$ and the demo style clip. The grid of $(w, s_s)$ scored on built-in validation
 # pairs (`tools/clusterstyle_findings.py --only guidance`) is tabled in appendix 08, beside the same $w$ scored on
-# real val pairs; the preset's $w$ is the one with the best mean of the two H — a weaker guidance than the built-in
-# grid alone would pick, because on real takes strong guidance erases the content. The last line below reads from
+# real val pairs; the preset's $w$ is the one with the best mean of the two H. The two disagree: real val H peaks at
+# a weaker guidance than built-in val H, because on real takes strong guidance erases the content. The last line below reads from
 # the grid what the SMA's style branch ($s_s$) costs or buys at the preset's $w$ — the course keeps the branch on
 # because the adapter is D's method.
 

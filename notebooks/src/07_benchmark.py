@@ -224,15 +224,16 @@ else:
 # reference rows — something of the transfer carries over — but the target style is recognised in only a
 # fraction of the outputs: on real motion the methods move the style much less than on built-in motion.
 # The last lines split the real judge's CRA by the action of the content clip: each method keeps some
-# actions well and loses others — adain most punches, runs and walks; contrastive most punches and about four in
-# ten walks; clusterstyle most of every action but jumps, runs worst of all; adain+dsdn most runs and about half its
-# walks and kicks; mcm_ldm most of its jumps, though it keeps punches best of all the methods.
+# actions well and loses others — adain every jump and most kicks, punches and runs, but fewer than half its walks;
+# adain+dsdn every jump and most punches, about half its kicks, runs and walks; contrastive every jump and kick and
+# most runs and walks, about half its punches; clusterstyle most jumps and about half its walks, but few punches;
+# mcm_ldm most kicks, jumps and punches, about half its runs and walks.
 # A real action the built-in corpus shows differently
 # (notebook 00's realism section) is where a model trained on it is likeliest to turn it into another.
 # The very last line is a caveat for the CRA column: a content the real judge misreads even untouched (a
 # stylised 100STYLE walk that looks to it like a run) counts as lost for every method, identity included.
 # Compare adain with adain+dsdn there: in the built-in table the stage-2 correction raises H clearly, but by
-# the real judge its H is about level, even a little lower — the correction trades some style for some content:
+# the real judge its H is a little lower — the correction smooths some style away and keeps no more content:
 # trained on built-in motion, the correction buys nothing on real motion. That gap is the honest state of
 # the course models; notebook 00 §6 shows where the built-in data still differs from real capture.
 
