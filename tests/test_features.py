@@ -61,6 +61,20 @@ def test_round_trip_on_a_turning_motion():
             np.testing.assert_allclose(bone, want, atol=1e-4)
 
 
+def test_facing_exactly_backward_is_a_half_turn_about_y():
+    # a body facing −Z exactly: quat_between's fallback for opposite directions picks a horizontal axis, which
+    # tipped the root over and zeroed the yaw step (a built-in turning walk drifted 2 cm from its own features)
+    a, b, c, d = F.FACE_JOINTS
+    p = np.zeros((6, 22, 3))
+    for k, x in ((a, 1.0), (b, -1.0), (c, 1.0), (d, -1.0)):  # hips and shoulders 1e-5 rad off the X axis
+        p[:, k, 0], p[:, k, 2] = x * 0.1, x * 0.1 * 1e-5
+    forward = np.cross([0.0, 1.0, 0.0], (p[0, a] - p[0, b]) + (p[0, c] - p[0, d]))
+    if forward[2] > 0:  # make the body face −Z whatever the sign convention of the face joints
+        p[..., 0] *= -1
+    q = F.root_rotations(p)
+    np.testing.assert_allclose(np.abs(q[1:]), np.broadcast_to([0.0, 0.0, 1.0, 0.0], (5, 4)), atol=1e-9)
+
+
 def test_invariances_and_known_answers():
     p = synthetic_motion(seed=1)
     feats = F.encode(p)

@@ -88,6 +88,9 @@ def root_rotations(positions) -> np.ndarray:
     forward = gaussian_filter1d(forward, FORWARD_SMOOTHING_SIGMA, axis=0, mode="nearest")
     forward = rot.normalize(forward)
     q = rot.quat_between(forward, np.broadcast_to([0.0, 0.0, 1.0], forward.shape))
+    # facing exactly −Z: any axis ⟂ Z turns it onto +Z and quat_between picks a horizontal one, which would
+    # tip the body over; the facing rotation is a yaw, so take the half turn about Y
+    q[1.0 + forward[:, 2] < 1e-7] = (0.0, 0.0, 1.0, 0.0)  # quat_between's own test for opposite directions
     q[0] = (1.0, 0.0, 0.0, 0.0)
     return rot.quat_fix(q)
 
