@@ -73,6 +73,8 @@ def test_facing_exactly_backward_is_a_half_turn_about_y():
         p[..., 0] *= -1
     q = F.root_rotations(p)
     np.testing.assert_allclose(np.abs(q[1:]), np.broadcast_to([0.0, 0.0, 1.0, 0.0], (5, 4)), atol=1e-9)
+    from mslib.data.batch_features import _root_rotations  # the corpora's batched encoder agrees
+    np.testing.assert_allclose(_root_rotations(p[None])[0], q, atol=1e-12)
 
 
 def test_invariances_and_known_answers():

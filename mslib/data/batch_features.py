@@ -23,7 +23,7 @@ def _root_rotations(p):
     forward = np.cross(np.array([0.0, 1.0, 0.0]), across)
     forward = gaussian_filter1d(forward, F.FORWARD_SMOOTHING_SIGMA, axis=1, mode="nearest")
     forward = rot.normalize(forward)
-    q = rot.quat_between(forward, np.broadcast_to([0.0, 0.0, 1.0], forward.shape))
+    q = F.facing_to_z(forward)
     q[:, 0] = (1.0, 0.0, 0.0, 0.0)
     # rotations.quat_fix, vectorised: flip where the dot with the (already fixed) previous is < 0
     flips = np.where((q[:, 1:] * q[:, :-1]).sum(-1) < 0, -1.0, 1.0)

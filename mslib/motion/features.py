@@ -78,6 +78,15 @@ def foot_contacts(positions, threshold: float = CONTACT_THRESHOLD) -> np.ndarray
     return (step2 < threshold).astype(np.float32)
 
 
+def facing_to_z(forward) -> np.ndarray:
+    """(..., 4) yaw quaternions taking horizontal unit directions (..., 3) onto +Z."""
+    q = rot.quat_between(forward, np.broadcast_to([0.0, 0.0, 1.0], forward.shape))
+    # facing exactly −Z: any axis ⟂ Z turns it onto +Z and quat_between picks a horizontal one, which would
+    # tip the body over; the facing rotation is a yaw, so take the half turn about Y
+    q[1.0 + forward[..., 2] < 1e-7] = (0.0, 0.0, 1.0, 0.0)  # quat_between's own test for opposite directions
+    return q
+
+
 def root_rotations(positions) -> np.ndarray:
     """(T, 4) root quaternions taking the smoothed facing direction onto +Z; frame 0 = identity."""
     p = np.asarray(positions, dtype=np.float64)
@@ -87,10 +96,7 @@ def root_rotations(positions) -> np.ndarray:
     forward = np.cross(np.array([0.0, 1.0, 0.0]), across)
     forward = gaussian_filter1d(forward, FORWARD_SMOOTHING_SIGMA, axis=0, mode="nearest")
     forward = rot.normalize(forward)
-    q = rot.quat_between(forward, np.broadcast_to([0.0, 0.0, 1.0], forward.shape))
-    # facing exactly −Z: any axis ⟂ Z turns it onto +Z and quat_between picks a horizontal one, which would
-    # tip the body over; the facing rotation is a yaw, so take the half turn about Y
-    q[1.0 + forward[:, 2] < 1e-7] = (0.0, 0.0, 1.0, 0.0)  # quat_between's own test for opposite directions
+    q = facing_to_z(forward)
     q[0] = (1.0, 0.0, 0.0, 0.0)
     return rot.quat_fix(q)
 
