@@ -227,6 +227,17 @@ def test_real_val_refuses_a_seed_spec_it_cannot_compare_before_any_work(tmp_path
     assert not (tmp_path / "no_bvh_here").exists()  # refused before converting anything
 
 
+def test_real_val_style_scale_sweep_is_the_guidance_grid_at_the_packaged_weight():
+    """ClusterStyle's two knobs read one stored guidance grid: they meet at the packaged (w, s_s)."""
+    from tools.real_val import POLICY, builtin_sweeps
+    sweeps = builtin_sweeps()
+    _, w, by_weight = sweeps["clusterstyle"]
+    knob, ss, by_scale = sweeps["clusterstyle_style_scale"]
+    assert knob == "s_s" and len(by_scale) >= 2 and ss in by_scale
+    assert by_scale[ss] == by_weight[w]
+    assert "clusterstyle_style_scale" in POLICY  # reported, not chosen
+
+
 def test_real_val_rule_takes_the_best_mean_of_both_val_sets_and_the_smaller_value_on_a_tie():
     from tools.real_val import choose
     real = [{"value": v, "h": h} for v, h in ((0.5, 0.30), (0.6, 0.40), (0.7, 0.44), (0.9, 0.99))]

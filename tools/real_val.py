@@ -2,7 +2,7 @@
 and judged by the real judges; writes notebooks/data/07_real_val.json.
 
     OMP_NUM_THREADS=1 python tools/real_val.py --xia-train XIA_TRAIN_BVH [--workdir DIR] \\
-        [--methods adain,dsdn,contrastive,contrastive_window,mcm_ldm,clusterstyle] [--pairs 200] \\
+        [--methods adain,dsdn,contrastive,contrastive_window,mcm_ldm,clusterstyle,clusterstyle_style_scale] [--pairs 200] \\
         [--seeds METHOD=A.pt,B.pt ...]
 
 Every knob of the course presets (adain's style strength w, DSDN's correction strength κ, ContrastiveStyle's
@@ -16,10 +16,12 @@ no choice has seen:
   styles: all its takes (`real_pairs(..., split="test")`, a draw of `--pairs`, styles in turn). The Xia test
   grid is never read here.
 - **the sweep**: each knob at the values its tool swept on built-in val pairs (read from the tool's stored
-  JSON), the other knobs as packaged (MCM-LDM at its packaged DDIM steps, ClusterStyle at its packaged s_s).
+  JSON), the other knobs as packaged (MCM-LDM at its packaged DDIM steps, ClusterStyle at its packaged s_s);
+  `clusterstyle_style_scale` is ClusterStyle's SMA style scale s_s at the packaged guidance weight (the s_s of
+  the tool's guidance grid there).
 - **the rule** (RULE, fixed before any real val pair was scored): the value with the highest mean of its
-  built-in val H and its real val H. ContrastiveStyle's w is a policy (C's transfer, w = 1), so its rows are
-  reported, not used to choose.
+  built-in val H and its real val H. ContrastiveStyle's w (C's transfer, w = 1) and ClusterStyle's s_s (the
+  style branch on, s_s = 1) are policies (POLICY), so their rows are reported, not used to choose.
 - **the seeds** (`--seeds`, SEED_RULE): the packaged checkpoint and the course recipe trained with other seeds,
   each scored at the course knobs on the built-in val pairs of the seed searches and on the real val pairs; the
   seed with the best mean of the two val H is packaged.
@@ -41,9 +43,11 @@ pin_cpu_code_paths()  # before numpy and torch load, as tools/real_bench.py
 from tools.common import DATA_DIR, current_commit, update_json  # noqa: E402
 
 OUT = DATA_DIR / "07_real_val.json"
-METHODS = ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clusterstyle")  # each one knob
-POLICY = {"contrastive": "C's own transfer, w = 1"}
-CHECKPOINT = {"contrastive_window": "contrastive"}  # a knob's checkpoint, where not named as the method
+METHODS = ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clusterstyle",
+           "clusterstyle_style_scale")  # each one knob
+POLICY = {"contrastive": "C's own transfer, w = 1",
+          "clusterstyle_style_scale": "the SMA's style branch kept on (s_s = 1, notebook 06)"}
+CHECKPOINT = {"contrastive_window": "contrastive", "clusterstyle_style_scale": "clusterstyle"}  # a knob's checkpoint, where not named as the method
 SEEDED = ("adain", "contrastive", "mcm_ldm", "clusterstyle")  # the methods whose seeds --seeds compares
 SEED_RULE = ("package the seed whose checkpoint has the highest mean of its built-in val H (200 built-in val pairs, "
              "the seed searches' draw) and its real val H, both at the course knob; a tie keeps the packaged seed "
@@ -72,8 +76,9 @@ def builtin_sweeps() -> dict:
     c_window = _stored("03_contrastive_recipes.json").get("window", {"course_window": 0, "rows": []})
     mcm = _stored("04_ablations.json")["choose"]
     cs_cfg = packaged_config("clusterstyle")["model"]
-    cs = [r for r in _stored("06_clusterstyle_findings.json")["guidance"]["rows"]
-          if r["cfg_style"] == cs_cfg["cfg_style"]]
+    guidance = _stored("06_clusterstyle_findings.json")["guidance"]["rows"]
+    cs = [r for r in guidance if r["cfg_style"] == cs_cfg["cfg_style"]]
+    cs_ss = {r["cfg_style"]: r["h"] for r in guidance if r["weight"] == cs_cfg["guide_weight"]}
     mcm_cfg, dsdn_cfg, adain_cfg = (packaged_config(n) for n in ("mcm_ldm", "dsdn", "adain"))
     return {
         "adain": ("w", adain_cfg["style_strength"], {r["strength"]: r["h"] for r in adain["rows"]}),
@@ -83,6 +88,7 @@ def builtin_sweeps() -> dict:
                                {r["window"]: r["h"] for r in c_window["rows"]}),
         "mcm_ldm": ("λ", mcm_cfg["cfg_scale"], {r["scale"]: r["h"] for r in mcm["rows"]}),
         "clusterstyle": ("guide_weight", cs_cfg["guide_weight"], {r["weight"]: r["h"] for r in cs}),
+        "clusterstyle_style_scale": ("s_s", cs_cfg["cfg_style"], cs_ss),
     }
 
 
@@ -106,12 +112,15 @@ def scorer(method: str, path=None):
         tr = P.load_mcm_ldm(path)
         steps = packaged_config("mcm_ldm")["ddim_steps"]  # every checkpoint at the packaged steps
         return lambda pairs, ev, v: mcm_ldm_ablations.scored(tr, pairs, ev, scale=v, steps=steps)
-    if method == "clusterstyle":
+    if method in ("clusterstyle", "clusterstyle_style_scale"):
         from mslib.models.clusterstyle import load_pipeline
         pipe = load_pipeline(path=path)
-        ss = packaged_config("clusterstyle")["model"]["cfg_style"]  # the packaged s_s (its guidance rows' s_s)
+        cfg = packaged_config("clusterstyle")["model"]  # the other knob as packaged
+        if method == "clusterstyle_style_scale":  # the SMA's style scale s_s at the packaged guidance weight
+            return lambda pairs, ev, v: clusterstyle_findings.scored_transfers(
+                pipe, pairs, ev, ("h", "cra", "sra"), weight=cfg["guide_weight"], cfg_style=v)
         return lambda pairs, ev, v: clusterstyle_findings.scored_transfers(pipe, pairs, ev, ("h", "cra", "sra"),
-                                                                            weight=v, cfg_style=ss)
+                                                                            weight=v, cfg_style=cfg["cfg_style"])
     raise ValueError(f"unknown method {method!r}; expected one of {', '.join(SEEDED)} or contrastive_window")
 
 
@@ -220,7 +229,8 @@ def main(argv=None) -> int:
         if method in POLICY:
             part = {**part, "chosen": packaged, "policy": POLICY[method], "best_by_rule": part["chosen"]}
         sections[method] = {"knob": knob, "packaged": packaged, **part, "seconds": round(time.time() - t0, 1),
-                            "checkpoint": checkpoint_digest(CHECKPOINT.get(method, method))}
+                            "checkpoint": checkpoint_digest(CHECKPOINT.get(method, method)),
+                            "commit": current_commit()}
         print(method, knob, "packaged", packaged, "chosen", sections[method]["chosen"], flush=True)
     if seed_checkpoints:
         from tools.common import val_pairs
