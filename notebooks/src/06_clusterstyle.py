@@ -369,7 +369,8 @@ fig = plot_transfer(demo_c["joints"], demo_s["joints"], course_out,
 # real val pairs; the preset's $w$ is the one with the best mean of the two H. The two disagree: real val H peaks at
 # a weaker guidance than built-in val H, because on real takes strong guidance erases the content. The last line below reads from
 # the grid what the SMA's style branch ($s_s$) costs or buys at the preset's $w$ — the course keeps the branch on
-# because the adapter is D's method.
+# because the adapter is D's method. Appendix 08 scores $s_s$ on real val pairs as well, to see whether what the
+# built-in grid says about the branch carries over to real motion.
 
 # %%
 z0 = pipe.vae.encode(pipe.normalize(c_raw)[None])

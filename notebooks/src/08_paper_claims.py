@@ -313,12 +313,15 @@ for r in g["rows"]:
 # workbook, yet its test grid may never choose anything. So the knobs are also scored on **real val pairs**:
 # the Xia train takes that neither real judge trained or stopped on (contents: their neutral takes; styles: all
 # of them), judged by the real judges. Each knob then takes the value with the best *mean* of its built-in val H and
-# its real val H; C's $w = 1$ is a policy (C's own transfer), so its row is shown, not used.
+# its real val H. Two knobs are policies, so their rows are shown, not used: C's $w = 1$ (C's own transfer)
+# and D's style scale $s_s = 1$ (the SMA's style branch on, notebook 06 §8). The built-in grid alone would switch
+# the branch off; its last rows show whether real val pairs agree.
 
 # %%
 rv = load_findings("07_real_val")
 print(f"{rv['pairs']} real val pairs ({len(rv['contents'])} neutral contents, {rv['styles']} style takes)\nrule: {rv['rule']}")
-for m in ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clusterstyle"):
+for m in ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clusterstyle",
+          "clusterstyle_style_scale"):
     part = rv[m]
     print(f"\n{m}: {part['knob']} = " + " ".join(f"{r['value']:>6g}" for r in part["rows"]))
     print(f"  {'real val H':<19}" + " ".join(f"{r['h']:>6.3f}" for r in part["rows"]))
@@ -336,7 +339,9 @@ for m in ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clus
 # is still rising at the sweep's largest $w$ — at C's own $w = 1$ the transfer carries too little real style — but
 # the course keeps C's transfer as the paper defines it, a policy fixed before these pairs were scored. C's
 # transfer window does not move real val H: the real val contents are short Xia takes, which fit in one window, so
-# the built-in half of the mean decides it.
+# the built-in half of the mean decides it. D's style branch is the reverse case: switching it off wins on built-in val pairs,
+# while on real val pairs on and off score about the same, so the built-in gain does not carry over to real motion
+# and the policy costs nothing there.
 
 # %% [markdown]
 # The seeds were checked the same way. Each seed search above packaged the seed with the best *built-in* val H, and
