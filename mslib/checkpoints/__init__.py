@@ -18,7 +18,7 @@ PACKAGE_DIR = Path(__file__).resolve().parent
 # the seed each packaged checkpoint was trained with (`python -m mslib train NAME --preset course --seed S`),
 # chosen on val pairs by each method's seed rule (tools/); tools/train_all.py retrains with these
 COURSE_SEEDS = {"evaluator_style": 0, "evaluator_content": 0, "vae": 0, "style_extractor": 0, "clusterstyle_style": 0,
-                "clusterstyle_t2m": 0, "clusterstyle": 1, "contrastive": 1, "adain": 0, "dsdn": 0, "mcm_ldm": 0}
+                "clusterstyle_t2m": 0, "clusterstyle": 1, "contrastive": 1, "adain": 2, "dsdn": 0, "mcm_ldm": 0}
 
 
 def course_path(name: str) -> Path:

@@ -72,7 +72,7 @@ class AdainConfig(Config):
     PRESETS: ClassVar[dict] = {
         "paper": {},
         "course": dict(hidden=64, content_blocks=2, decoder_blocks=2, style_layers=1, dropout=0.0, clip_frames=32,
-                       style_strength=0.55, shared_encoder=True, pretrain_steps=3000, lambda_content=2.0),
+                       style_strength=0.6, shared_encoder=True, pretrain_steps=3000, lambda_content=2.0),
     }
     RETIRED: ClassVar[dict] = {"content_skip": False}
 
