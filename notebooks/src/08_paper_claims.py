@@ -255,7 +255,8 @@ record("D §4: clusterstyle's outputs are more diverse than adain's",
 # is the current corpora's); the packaged
 # checkpoints were retrained on the current corpora with the recipes they chose. The seed searches ran on the
 # previous version of the corpora (the generator before its knees were fixed): each trained its course recipe with
-# the other seeds of 0–2 and packaged the seed its rule chose; the current checkpoints are those seeds retrained.
+# the other seeds of 0–2 and packaged the seed its rule chose; the current checkpoints are those seeds retrained
+# (adain's search was run again on the current corpora and chose another seed).
 # Then A's style strength, DSDN's κ, B's λ and D's guidance weight were chosen once more for the packaged
 # models (notebooks 02, 04 §8, 05 and 06 §8), now with real val pairs beside the built-in ones, and the seeds were
 # checked on both val sets as well (the last two tables of this section).
@@ -348,7 +349,8 @@ for m in ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clus
 # one seed's luck on built-in pairs need not carry over to real motion. So every seed's checkpoint was also scored at
 # its course knob on both val sets, and the seed with the best mean of its built-in and real val H is packaged (a
 # rule fixed before any seed was scored on real pairs; the packaged seed keeps a tie). This comparison, too, was
-# made on the previous corpora's checkpoints, so its numbers are not those of the checkpoints packaged now.
+# made on the previous corpora's checkpoints, so its numbers are not those of the checkpoints packaged now, except
+# adain's: its seeds were trained and compared again on the current corpora, at its current course strength.
 
 # %%
 sd = rv["seeds"]
