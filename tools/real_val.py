@@ -47,7 +47,8 @@ METHODS = ("adain", "dsdn", "contrastive", "contrastive_window", "mcm_ldm", "clu
            "clusterstyle_style_scale")  # each one knob
 POLICY = {"contrastive": "C's own transfer, w = 1",
           "clusterstyle_style_scale": "the SMA's style branch kept on (s_s = 1, notebook 06)"}
-CHECKPOINT = {"contrastive_window": "contrastive", "clusterstyle_style_scale": "clusterstyle"}  # a knob's checkpoint, where not named as the method
+# a knob's checkpoint, where not named as the method
+CHECKPOINT = {"contrastive_window": "contrastive", "clusterstyle_style_scale": "clusterstyle"}
 SEEDED = ("adain", "contrastive", "mcm_ldm", "clusterstyle")  # the methods whose seeds --seeds compares
 SEED_RULE = ("package the seed whose checkpoint has the highest mean of its built-in val H (200 built-in val pairs, "
              "the seed searches' draw) and its real val H, both at the course knob; a tie keeps the packaged seed "
